@@ -1,0 +1,141 @@
+#pragma once
+// The two small interfaces that carry the physics. An EnergyTerm gives the value, gradient and
+// Hessian of its energy on a flat vector of unknowns, plus the hooks barrier contact needs (is a
+// state valid, how far can a step go). ElementEnergyTerm writes an element's energy once, as a
+// template on the scalar type, and derives gradient and Hessian by forward AD (Trilinos Sacado).
+
+#include <Eigen/Sparse>
+#include <Sacado.hpp>
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace nlmech
+{
+  using Triplets = std::vector<Eigen::Triplet<double>>;
+
+  class EnergyTerm
+  {
+  public:
+    virtual ~EnergyTerm() = default;
+    virtual std::string name() const = 0;
+
+    virtual double value(const Eigen::VectorXd &x) const = 0;
+    /// g += dE/dx
+    virtual void add_gradient(const Eigen::VectorXd &x, Eigen::VectorXd &g) const = 0;
+    /// H += d2E/dx2, as (row, column, value) triplets (duplicates are summed).
+    virtual void add_hessian(const Eigen::VectorXd &x, Triplets &h) const = 0;
+
+    /// False where the energy is undefined (inverted element, interpenetration).
+    virtual bool is_valid(const Eigen::VectorXd &) const { return true; }
+    /// Largest alpha in (0, 1] such that x + t dx stays valid for all t in [0, alpha).
+    virtual double max_safe_step(const Eigen::VectorXd &, const Eigen::VectorXd &) const { return 1.0; }
+  };
+
+  /// An energy that is a sum over elements, each depending on N unknowns. `Element` provides
+  ///   static constexpr std::size_t n_dofs = N;
+  ///   std::size_t n_elements() const;
+  ///   std::array<std::size_t, N> dofs(std::size_t e) const;
+  ///   template <typename S> S energy(const std::array<S, N> &x, std::size_t e) const;
+  template <typename Element>
+  class ElementEnergyTerm : public EnergyTerm
+  {
+  public:
+    static constexpr std::size_t N = Element::n_dofs;
+    using Gradient                 = Sacado::Fad::SFad<double, N>;
+    using Hessian                  = Sacado::Fad::SFad<Gradient, N>;
+
+    ElementEnergyTerm(std::string term_name, Element element)
+      : term_name(std::move(term_name))
+      , element(std::move(element))
+    {}
+
+    std::string    name() const override { return term_name; }
+    const Element &elements() const { return element; }
+
+    double value(const Eigen::VectorXd &x) const override
+    {
+      double total = 0;
+      for (std::size_t e = 0; e < element.n_elements(); ++e)
+        total += element.energy(gather<double>(x, e), e);
+      return total;
+    }
+
+    void add_gradient(const Eigen::VectorXd &x, Eigen::VectorXd &g) const override
+    {
+      for (std::size_t e = 0; e < element.n_elements(); ++e)
+        {
+          const auto dofs = element.dofs(e);
+          std::array<Gradient, N> local;
+          for (std::size_t i = 0; i < N; ++i)
+            local[i] = Gradient(N, i, x[dofs[i]]);
+          const Gradient energy = element.energy(local, e);
+          for (std::size_t i = 0; i < N; ++i)
+            g[dofs[i]] += energy.dx(i);
+        }
+    }
+
+    void add_hessian(const Eigen::VectorXd &x, Triplets &h) const override
+    {
+      for (std::size_t e = 0; e < element.n_elements(); ++e)
+        {
+          const auto dofs = element.dofs(e);
+          std::array<Hessian, N> local;
+          for (std::size_t i = 0; i < N; ++i)
+            {
+              local[i]     = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
+            }
+          const Hessian energy = element.energy(local, e);
+          for (std::size_t i = 0; i < N; ++i)
+            for (std::size_t j = 0; j < N; ++j)
+              h.emplace_back(dofs[i], dofs[j], energy.dx(i).dx(j));
+        }
+    }
+
+    /// Element energies' local gradient, for tests and hand-tuned kernels to compare against.
+    std::array<double, N * N> local_hessian(const Eigen::VectorXd &x, std::size_t e) const
+    {
+      const auto dofs = element.dofs(e);
+      std::array<Hessian, N> local;
+      for (std::size_t i = 0; i < N; ++i)
+        local[i] = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
+      const Hessian energy = element.energy(local, e);
+      std::array<double, N * N> out;
+      for (std::size_t i = 0; i < N; ++i)
+        for (std::size_t j = 0; j < N; ++j)
+          out[i * N + j] = energy.dx(i).dx(j);
+      return out;
+    }
+
+  private:
+    template <typename S>
+    std::array<S, N> gather(const Eigen::VectorXd &x, std::size_t e) const
+    {
+      const auto       dofs = element.dofs(e);
+      std::array<S, N> local;
+      for (std::size_t i = 0; i < N; ++i)
+        local[i] = x[dofs[i]];
+      return local;
+    }
+
+    std::string term_name;
+    Element     element;
+  };
+
+  /// External potential -f . x of constant nodal forces (gravity on lumped masses, point loads).
+  class ConstantForceTerm : public EnergyTerm
+  {
+  public:
+    ConstantForceTerm(std::string term_name, Eigen::VectorXd force);
+    std::string name() const override { return term_name; }
+    double      value(const Eigen::VectorXd &x) const override;
+    void        add_gradient(const Eigen::VectorXd &x, Eigen::VectorXd &g) const override;
+    void        add_hessian(const Eigen::VectorXd &, Triplets &) const override {}
+
+  private:
+    std::string     term_name;
+    Eigen::VectorXd force;
+  };
+} // namespace nlmech

@@ -1,0 +1,56 @@
+#pragma once
+// A Model: a layout of n unknowns, a lumped mass, fixed (Dirichlet) unknowns, and a sum of energy
+// terms. Solvers see only this class, never the physics behind the terms.
+
+#include <nlmech/models/energy_term.h>
+
+#include <Eigen/Sparse>
+
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace nlmech
+{
+  class Model
+  {
+  public:
+    explicit Model(std::size_t n_unknowns);
+
+    std::size_t n_unknowns() const { return n; }
+    void        add_term(std::shared_ptr<const EnergyTerm> term);
+    const std::vector<std::shared_ptr<const EnergyTerm>> &terms() const { return energy_terms; }
+
+    /// Lumped (diagonal) mass per unknown [kg].
+    Eigen::VectorXd       &lumped_mass() { return mass; }
+    const Eigen::VectorXd &lumped_mass() const { return mass; }
+
+    /// Holds unknown i at a value.
+    void                                 fix(std::size_t i, double value);
+    const std::map<std::size_t, double> &fixed() const { return fixed_values; }
+    bool                                 is_fixed(std::size_t i) const { return fixed_values.count(i) > 0; }
+
+    double                      energy(const Eigen::VectorXd &x) const;
+    Eigen::VectorXd             gradient(const Eigen::VectorXd &x) const;
+    Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd &x) const;
+    bool                        is_valid(const Eigen::VectorXd &x) const;
+    double                      max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const;
+
+  private:
+    std::size_t                                     n;
+    std::vector<std::shared_ptr<const EnergyTerm>>  energy_terms;
+    Eigen::VectorXd                                 mass;
+    std::map<std::size_t, double>                   fixed_values;
+  };
+
+  /// Largest relative differences between analytic and central finite-difference derivatives.
+  struct DerivativeCheck
+  {
+    double gradient_error = 0; // max |g - g_fd| / max(1, |g|_inf)
+    double hessian_error  = 0; // max |H - H_fd| / max(1, |H|_inf)
+  };
+
+  /// Checks an energy term's gradient against differences of its value and its Hessian against
+  /// differences of its gradient, with step `h` scaled by max(1, |x|_inf).
+  DerivativeCheck check_derivatives(const EnergyTerm &term, const Eigen::VectorXd &x, double h = 1e-6);
+} // namespace nlmech

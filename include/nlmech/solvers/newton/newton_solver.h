@@ -1,0 +1,29 @@
+#pragma once
+// Energy minimisation by Newton's method with a backtracking (Armijo) line search, on any Model.
+// The Hessian of the free unknowns is factorised by CHOLMOD (supernodal Cholesky); where it is not
+// positive definite a growing diagonal shift is added. Steps are capped by the Model's safe step.
+
+#include <nlmech/models/model.h>
+
+namespace nlmech
+{
+  struct NewtonSettings
+  {
+    double       relative_tolerance = 1e-10; // on |g_free| relative to the first iterate's
+    double       absolute_tolerance = 1e-14; // on |g_free|
+    unsigned int max_iterations     = 50;
+    unsigned int max_line_search    = 40;
+  };
+
+  struct NewtonResult
+  {
+    unsigned int iterations     = 0;
+    unsigned int factorizations = 0;
+    double       gradient_norm  = 0;
+    double       energy         = 0;
+  };
+
+  /// Minimises the Model's energy from x (fixed unknowns are set first). Throws a clear error when
+  /// it does not converge.
+  NewtonResult minimize_with_newton(const Model &model, Eigen::VectorXd &x, const NewtonSettings &settings = {});
+} // namespace nlmech

@@ -1,0 +1,123 @@
+#include <nlmech/solvers/newton/newton_solver.h>
+
+#include <deal.II/base/exceptions.h>
+
+#include <Eigen/CholmodSupport>
+
+#include <cmath>
+#include <string>
+
+namespace nlmech
+{
+  NewtonResult minimize_with_newton(const Model &model, Eigen::VectorXd &x, const NewtonSettings &settings)
+  {
+    const std::size_t n = model.n_unknowns();
+    AssertThrow(std::size_t(x.size()) == n, dealii::ExcDimensionMismatch(x.size(), n));
+    for (const auto &f : model.fixed())
+      x[f.first] = f.second;
+    AssertThrow(model.is_valid(x), dealii::ExcMessage("Newton: the initial state is not valid."));
+
+    std::vector<long> free_index(n, -1);
+    std::vector<std::size_t> free_dofs;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!model.is_fixed(i))
+        {
+          free_index[i] = free_dofs.size();
+          free_dofs.push_back(i);
+        }
+    const std::size_t m = free_dofs.size();
+
+    auto free_gradient = [&](const Eigen::VectorXd &state) {
+      const Eigen::VectorXd g = model.gradient(state);
+      Eigen::VectorXd       gf(m);
+      for (std::size_t k = 0; k < m; ++k)
+        gf[k] = g[free_dofs[k]];
+      return gf;
+    };
+
+    NewtonResult result;
+    double       energy = model.energy(x);
+    Eigen::VectorXd g   = free_gradient(x);
+    const double    g0  = g.norm();
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
+    bool analysed = false;
+
+    for (result.iterations = 0;; ++result.iterations)
+      {
+        result.gradient_norm = g.norm();
+        result.energy        = energy;
+        if (result.gradient_norm <= std::max(settings.absolute_tolerance, settings.relative_tolerance * g0))
+          return result;
+        AssertThrow(result.iterations < settings.max_iterations,
+                    dealii::ExcMessage("Newton did not converge in " + std::to_string(settings.max_iterations) +
+                                       " iterations (gradient norm " + std::to_string(result.gradient_norm) +
+                                       ", started at " + std::to_string(g0) + ")."));
+
+        // Hessian restricted to the free unknowns.
+        const Eigen::SparseMatrix<double> H = model.hessian(x);
+        Triplets                          free_triplets;
+        double                            diagonal_scale = 0;
+        for (int col = 0; col < H.outerSize(); ++col)
+          for (Eigen::SparseMatrix<double>::InnerIterator it(H, col); it; ++it)
+            if (free_index[it.row()] >= 0 && free_index[it.col()] >= 0)
+              {
+                free_triplets.emplace_back(free_index[it.row()], free_index[it.col()], it.value());
+                if (it.row() == it.col())
+                  diagonal_scale = std::max(diagonal_scale, std::abs(it.value()));
+              }
+        Eigen::SparseMatrix<double> Hf(m, m);
+        Hf.setFromTriplets(free_triplets.begin(), free_triplets.end());
+        Hf.makeCompressed();
+
+        Eigen::VectorXd dx_free;
+        double          shift = 0;
+        for (int attempt = 0;; ++attempt)
+          {
+            Eigen::SparseMatrix<double> A = Hf;
+            if (shift > 0)
+              for (std::size_t k = 0; k < m; ++k)
+                A.coeffRef(k, k) += shift;
+            if (!analysed)
+              {
+                cholesky.analyzePattern(A);
+                analysed = true;
+              }
+            cholesky.factorize(A);
+            ++result.factorizations;
+            if (cholesky.info() == Eigen::Success)
+              {
+                dx_free = cholesky.solve(-g);
+                if (dx_free.dot(g) < 0)
+                  break;
+              }
+            AssertThrow(attempt < 20, dealii::ExcMessage("Newton: the Hessian could not be made positive definite."));
+            shift = (shift == 0 ? 1e-8 * std::max(diagonal_scale, 1e-300) : 10 * shift);
+          }
+
+        Eigen::VectorXd dx = Eigen::VectorXd::Zero(n);
+        for (std::size_t k = 0; k < m; ++k)
+          dx[free_dofs[k]] = dx_free[k];
+        double       alpha = std::min(1.0, 0.99 * model.max_safe_step(x, dx));
+        const double slope = g.dot(dx_free);
+        bool         accepted = false;
+        for (unsigned int ls = 0; ls < settings.max_line_search; ++ls, alpha *= 0.5)
+          {
+            const Eigen::VectorXd trial = x + alpha * dx;
+            if (!model.is_valid(trial))
+              continue;
+            const double trial_energy = model.energy(trial);
+            // Armijo, with a round-off allowance once the energy stagnates at machine precision.
+            if (trial_energy <= energy + 1e-4 * alpha * slope + 1e-14 * std::abs(energy))
+              {
+                x        = trial;
+                energy   = trial_energy;
+                accepted = true;
+                break;
+              }
+          }
+        AssertThrow(accepted, dealii::ExcMessage("Newton: the line search found no decrease (gradient norm " +
+                                                 std::to_string(g.norm()) + ")."));
+        g = free_gradient(x);
+      }
+  }
+} // namespace nlmech
