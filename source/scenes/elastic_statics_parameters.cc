@@ -90,6 +90,9 @@ namespace nlmech
                       "single Mesh/Element size.");
     prm.declare_entry("Write fields", "true", Patterns::Bool(),
                       "Write VTU/PVD displacement and stress fields for every mesh of the study.");
+    prm.declare_entry("Write vertex displacements", "false", Patterns::Bool(),
+                      "Write vertex_displacements.csv (x, y[, z] [m], u_x, u_y[, u_z] [m] per mesh vertex) for the "
+                      "finest mesh; used to compare runs, e.g. serial against MPI.");
     prm.leave_subsection();
   }
 
@@ -100,6 +103,7 @@ namespace nlmech
     for (double h : element_sizes)
       AssertThrow(h > 0, ExcMessage("Every mesh-study element size must be positive."));
     write_fields = prm.get_bool("Write fields");
+    write_vertex_displacements = prm.get_bool("Write vertex displacements");
     prm.leave_subsection();
   }
 

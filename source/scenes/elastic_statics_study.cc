@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
 namespace nlmech
 {
@@ -69,6 +70,29 @@ namespace nlmech
             std::snprintf(name, sizeof(name), "solution-%02u", level);
             const std::string record = problem.write_vtu(context.output.file(""), name);
             pvd_entries.emplace_back(level, record);
+          }
+
+        if (study.write_vertex_displacements && level + 1 == sizes.size())
+          {
+            const auto rows = problem.vertex_displacements();
+            if (context.is_root())
+              {
+                std::ostringstream csv;
+                csv.precision(17);
+                const char *axis[] = {"x", "y", "z"};
+                for (unsigned int d = 0; d < dim; ++d)
+                  csv << axis[d] << "_m,";
+                for (unsigned int d = 0; d < dim; ++d)
+                  csv << "u_" << axis[d] << "_m" << (d + 1 < dim ? "," : "\n");
+                for (const auto &r : rows)
+                  {
+                    for (unsigned int d = 0; d < dim; ++d)
+                      csv << r.first[d] << ",";
+                    for (unsigned int d = 0; d < dim; ++d)
+                      csv << r.second[d] << (d + 1 < dim ? "," : "\n");
+                  }
+                write_file_atomically(context.output.file("vertex_displacements.csv"), csv.str());
+              }
           }
 
         MeshStudyTable::Row row;

@@ -31,6 +31,7 @@ namespace nlmech
   {
     std::vector<double> element_sizes; // empty: one run at the Mesh element size
     bool                write_fields = true;
+    bool                write_vertex_displacements = false;
 
     static void declare_parameters(dealii::ParameterHandler &prm, const std::string &default_sizes);
     void        parse_parameters(dealii::ParameterHandler &prm);

@@ -342,6 +342,46 @@ namespace nlmech
   }
 
   template <int dim>
+  std::vector<std::pair<Point<dim>, Tensor<1, dim>>> LinearElasticity<dim>::vertex_displacements() const
+  {
+    std::vector<double> local; // (vertex index, u_0..u_dim-1) records
+    std::vector<bool>   seen(tria.n_vertices(), false);
+    std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dof_indices);
+          for (const unsigned int v : cell->vertex_indices())
+            if (!seen[cell->vertex_index(v)])
+              {
+                seen[cell->vertex_index(v)] = true;
+                local.push_back(cell->vertex_index(v));
+                for (unsigned int d = 0; d < dim; ++d)
+                  local.push_back(ghosted_solution[dof_indices[fe.component_to_system_index(d, v)]]);
+              }
+        }
+    const auto gathered = Utilities::MPI::gather(comm, local, 0);
+    std::vector<std::pair<Point<dim>, Tensor<1, dim>>> result;
+    if (Utilities::MPI::this_mpi_process(comm) != 0)
+      return result;
+    const auto         &vertices = tria.get_vertices();
+    std::vector<bool>   filled(vertices.size(), false);
+    std::vector<Tensor<1, dim>> u(vertices.size());
+    for (const auto &records : gathered)
+      for (std::size_t r = 0; r < records.size(); r += dim + 1)
+        {
+          const auto v = static_cast<std::size_t>(records[r]);
+          filled[v]    = true;
+          for (unsigned int d = 0; d < dim; ++d)
+            u[v][d] = records[r + 1 + d];
+        }
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+      if (filled[v])
+        result.emplace_back(vertices[v], u[v]);
+    return result;
+  }
+
+  template <int dim>
   std::string LinearElasticity<dim>::write_vtu(const std::string &directory, const std::string &basename) const
   {
     DataOut<dim> data_out;

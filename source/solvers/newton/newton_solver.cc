@@ -40,7 +40,8 @@ namespace nlmech
     Eigen::VectorXd g   = free_gradient(x);
     const double    g0  = g.norm();
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
-    bool analysed = false;
+    long analysed_nonzeros = -1;
+    cholesky.cholmod().print = 1; // errors only: "not positive definite" is handled by the shift below
 
     for (result.iterations = 0;; ++result.iterations)
       {
@@ -57,6 +58,9 @@ namespace nlmech
         const Eigen::SparseMatrix<double> H = model.hessian(x);
         Triplets                          free_triplets;
         double                            diagonal_scale = 0;
+        // Explicit diagonal entries keep the sparsity pattern fixed when a shift is added.
+        for (std::size_t k = 0; k < m; ++k)
+          free_triplets.emplace_back(k, k, 0.0);
         for (int col = 0; col < H.outerSize(); ++col)
           for (Eigen::SparseMatrix<double>::InnerIterator it(H, col); it; ++it)
             if (free_index[it.row()] >= 0 && free_index[it.col()] >= 0)
@@ -77,10 +81,11 @@ namespace nlmech
             if (shift > 0)
               for (std::size_t k = 0; k < m; ++k)
                 A.coeffRef(k, k) += shift;
-            if (!analysed)
+            // The symbolic analysis is reused while the Hessian's pattern does not change.
+            if (A.nonZeros() != analysed_nonzeros)
               {
                 cholesky.analyzePattern(A);
-                analysed = true;
+                analysed_nonzeros = A.nonZeros();
               }
             cholesky.factorize(A);
             ++result.factorizations;
@@ -91,7 +96,7 @@ namespace nlmech
                   break;
               }
             AssertThrow(attempt < 20, dealii::ExcMessage("Newton: the Hessian could not be made positive definite."));
-            shift = (shift == 0 ? 1e-8 * std::max(diagonal_scale, 1e-300) : 10 * shift);
+            shift = (shift == 0 ? 1e-8 * (diagonal_scale > 0 ? diagonal_scale : 1.0) : 10 * shift);
           }
 
         Eigen::VectorXd dx = Eigen::VectorXd::Zero(n);
@@ -106,6 +111,9 @@ namespace nlmech
             if (!model.is_valid(trial))
               continue;
             const double trial_energy = model.energy(trial);
+            AssertThrow(std::isfinite(trial_energy),
+                        dealii::ExcMessage("Newton: the energy is not finite along the step; the model may have no "
+                                           "minimum (missing boundary conditions?)."));
             // Armijo, with a round-off allowance once the energy stagnates at machine precision.
             if (trial_energy <= energy + 1e-4 * alpha * slope + 1e-14 * std::abs(energy))
               {

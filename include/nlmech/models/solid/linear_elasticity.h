@@ -81,6 +81,10 @@ namespace nlmech
     /// Largest displacement magnitude at the vertices.
     double max_displacement() const;
 
+    /// Vertex positions and displacements, one row (x, u) per mesh vertex in vertex order, gathered
+    /// on rank 0 (empty elsewhere). Identical ordering serially and under MPI.
+    std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>> vertex_displacements() const;
+
     /// Writes this rank's VTU piece, and (rank 0) the .pvtu record; returns the .pvtu file name.
     std::string write_vtu(const std::string &directory, const std::string &basename) const;
 

@@ -1,0 +1,72 @@
+#!/usr/bin/env python3
+"""Bad input: each case must end in one clear error line, a non-zero exit and no result files.
+
+usage: bad_input.py --nlmech BIN --source-dir DIR CASE
+"""
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+CANTILEVER = "set Scene type = cantilever\nsubsection Mesh study\n  set Element sizes = 0.1\nend\n"
+
+
+def elastic(mesh, clamped="clamped"):
+    return (f"set Scene type = elastic-statics\nsubsection Mesh\n  set Mesh file = {mesh}\nend\n"
+            f"subsection Boundary conditions\n  set Clamped groups = {clamped}\nend\n")
+
+
+def cases(source):
+    data = os.path.join(source, "tests", "data")
+    return {
+        "malformed-prm": (CANTILEVER + "subsection Material\n  sett Young's modulus 3\nend\n", "Line <6>"),
+        "unknown-scene": ("set Scene type = warp-drive\n", "Unknown scene <warp-drive>. Registered scenes: cantilever"),
+        "no-scene": ("subsection Material\nend\n", "does not name a scene"),
+        "unknown-parameter": (CANTILEVER + "subsection Material\n  set Colour = red\nend\n",
+                              "No entry with name <Colour>"),
+        "missing-mesh": (elastic("no/such/mesh.geo"), "does not exist"),
+        "missing-group": (elastic(os.path.join(source, "meshes", "cantilever.geo"), "wall"),
+                          "physical group <wall> does not exist"),
+        "negative-youngs-modulus": (CANTILEVER + "subsection Material\n  set Young's modulus = -2e11\nend\n",
+                                    "Young's modulus must be positive"),
+        "incompressible-poisson": (CANTILEVER + "subsection Material\n  set Poisson's ratio = 0.5\nend\n",
+                                   "Poisson's ratio must be below 0.5"),
+        "inverted-element": (elastic(os.path.join(data, "inverted_tet.msh")), "has an inverted element 1"),
+        "bad-number-list": (CANTILEVER.replace("0.1", "0.1, fine"), "<fine> is not a number"),
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--nlmech", required=True)
+    parser.add_argument("--source-dir", required=True)
+    parser.add_argument("case")
+    args = parser.parse_args()
+    prm_text, expected = cases(args.source_dir)[args.case]
+    work = tempfile.mkdtemp(prefix="nlmech_bad_")
+    try:
+        prm = os.path.join(work, "case.prm")
+        with open(prm, "w") as f:
+            f.write(prm_text)
+        out = os.path.join(work, "results")
+        run = subprocess.run([args.nlmech, prm, "--output-directory", out], capture_output=True, text=True, cwd=work)
+        print(run.stdout + run.stderr)
+        errors = [line for line in run.stderr.splitlines() if line.startswith("nlmech: error:")]
+        checks = {
+            "non-zero exit status": run.returncode != 0,
+            "exactly one error line": len(errors) == 1 and len(run.stderr.strip().splitlines()) == 1,
+            f"message contains '{expected}'": expected in run.stderr,
+            "no stack dump": "Stacktrace" not in run.stderr and "--------" not in run.stderr,
+            "no result files left": sorted(os.listdir(work)) == ["case.prm"],
+        }
+        for name, ok in checks.items():
+            print(f"{'ok  ' if ok else 'FAIL'}: {name}")
+        return 0 if all(checks.values()) else 1
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
