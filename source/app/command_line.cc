@@ -20,10 +20,10 @@ namespace nlmech
   namespace
   {
     const char *usage =
-      "usage: nlmech FILE.prm [--output-directory DIR]   run the scene named in FILE.prm\n"
-      "       nlmech --validate FILE.prm                 parse and check FILE.prm only\n"
-      "       nlmech --print-parameters SCENE            print SCENE's documented parameters\n"
-      "       nlmech --list-scenes                       list the registered scenes\n";
+        "usage: nlmech FILE.prm [--output-directory DIR]   run the scene named in FILE.prm\n"
+        "       nlmech --validate FILE.prm                 parse and check FILE.prm only\n"
+        "       nlmech --print-parameters SCENE            print SCENE's documented parameters\n"
+        "       nlmech --list-scenes                       list the registered scenes\n";
 
     std::string trim(const std::string &s)
     {
@@ -61,7 +61,8 @@ namespace nlmech
 
     void declare_common_parameters(ParameterHandler &prm, const std::string &scene)
     {
-      prm.declare_entry("Scene type", scene, Patterns::Selection(SceneRegistry::instance().names_separated_by("|")),
+      prm.declare_entry("Scene type", scene,
+                        Patterns::Selection(SceneRegistry::instance().names_separated_by("|")),
                         "The scene to run: " + SceneRegistry::instance().names_separated_by(", ") + ".");
       prm.enter_subsection("Output");
       prm.declare_entry("Output directory", "results/" + scene, Patterns::FileName(),
@@ -87,7 +88,8 @@ namespace nlmech
       AssertThrow(!run.scene_name.empty(),
                   ExcMessage("The parameter file <" + file +
                              "> does not name a scene: add `set Scene type = NAME` at the top level. "
-                             "Registered scenes: " + SceneRegistry::instance().names_separated_by(", ") + "."));
+                             "Registered scenes: " +
+                             SceneRegistry::instance().names_separated_by(", ") + "."));
       const SceneInfo &info = SceneRegistry::instance().get(run.scene_name);
       run.prm               = std::make_unique<ParameterHandler>();
       declare_common_parameters(*run.prm, run.scene_name);
@@ -172,8 +174,8 @@ namespace nlmech
 
   int run_command_line(int argc, char **argv, MPI_Comm comm)
   {
-    const bool                root = Utilities::MPI::this_mpi_process(comm) == 0;
-    std::vector<std::string>  args(argv + 1, argv + argc);
+    const bool               root = Utilities::MPI::this_mpi_process(comm) == 0;
+    std::vector<std::string> args(argv + 1, argv + argc);
     try
       {
         if (args.empty() || args[0] == "--help" || args[0] == "-h")
@@ -226,7 +228,8 @@ namespace nlmech
         const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
         if (root || n_ranks > 1)
           std::cerr << "nlmech: error: "
-                    << (n_ranks > 1 ? "[rank " + std::to_string(Utilities::MPI::this_mpi_process(comm)) + "] " : "")
+                    << (n_ranks > 1 ? "[rank " + std::to_string(Utilities::MPI::this_mpi_process(comm)) + "] "
+                                    : "")
                     << message_of(e) << std::endl;
         return 1;
       }

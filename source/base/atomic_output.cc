@@ -12,9 +12,9 @@ namespace nlmech
   namespace fs = std::filesystem;
 
   AtomicFile::AtomicFile(const std::string &path)
-    : final_path(path)
-    , temporary_path(path + ".tmp." + std::to_string(::getpid()))
-    , out(temporary_path)
+      : final_path(path)
+      , temporary_path(path + ".tmp." + std::to_string(::getpid()))
+      , out(temporary_path)
   {
     AssertThrow(out.good(), dealii::ExcMessage("Cannot open <" + temporary_path + "> for writing."));
     out.precision(16);
@@ -47,8 +47,8 @@ namespace nlmech
   }
 
   OutputDirectory::OutputDirectory(const std::string &final_path, MPI_Comm comm)
-    : final_directory(fs::path(final_path).lexically_normal().string())
-    , comm(comm)
+      : final_directory(fs::path(final_path).lexically_normal().string())
+      , comm(comm)
   {
     while (final_directory.size() > 1 && final_directory.back() == '/')
       final_directory.pop_back();

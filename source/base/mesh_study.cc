@@ -14,7 +14,8 @@ namespace nlmech
 {
   double fitted_slope(const std::vector<double> &x, const std::vector<double> &y)
   {
-    AssertThrow(x.size() == y.size() && x.size() >= 2, dealii::ExcMessage("A fit needs at least two points."));
+    AssertThrow(x.size() == y.size() && x.size() >= 2,
+                dealii::ExcMessage("A fit needs at least two points."));
     double mx = 0, my = 0;
     for (std::size_t i = 0; i < x.size(); ++i)
       mx += x[i] / x.size(), my += y[i] / y.size();
@@ -25,9 +26,10 @@ namespace nlmech
   }
 
   MeshStudyTable::MeshStudyTable(const std::string &error_name, const std::vector<std::string> &extra_columns)
-    : error_name(error_name)
-    , extra_columns(extra_columns)
-  {}
+      : error_name(error_name)
+      , extra_columns(extra_columns)
+  {
+  }
 
   void MeshStudyTable::add(const Row &row)
   {
@@ -77,12 +79,14 @@ namespace nlmech
     write_file_atomically(path, to_csv());
   }
 
-  std::string MeshStudyTable::plot(const std::string &csv_path, const std::string &png_path, const std::string &title)
+  std::string MeshStudyTable::plot(const std::string &csv_path, const std::string &png_path,
+                                   const std::string &title)
   {
     const std::string script = std::string(NLMECH_SOURCE_DIR) + "/contrib/plot/mesh_study.py";
     if (!std::filesystem::exists(script))
       return "plot script " + script + " not found";
-    const std::string command = std::string(NLMECH_PYTHON) + " '" + script + "' '" + csv_path + "' '" + png_path + "' '" + title + "'";
+    const std::string command = std::string(NLMECH_PYTHON) + " '" + script + "' '" + csv_path + "' '" +
+                                png_path + "' '" + title + "'";
     const int status = std::system(command.c_str());
     return status == 0 ? "" : "python3/matplotlib failed (exit status " + std::to_string(status) + ")";
   }

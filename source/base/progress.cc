@@ -9,12 +9,13 @@ namespace nlmech
 {
   ProgressReporter::ProgressReporter(const std::string &task, double total_work, MPI_Comm comm,
                                      std::ostream &out)
-    : task(task)
-    , total_work(total_work)
-    , is_root(dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-    , out(out)
-    , start(std::chrono::steady_clock::now())
-  {}
+      : task(task)
+      , total_work(total_work)
+      , is_root(dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+      , out(out)
+      , start(std::chrono::steady_clock::now())
+  {
+  }
 
   double ProgressReporter::elapsed_seconds() const
   {

@@ -8,13 +8,14 @@
 namespace nlmech
 {
   RunContext::RunContext(MPI_Comm comm, OutputDirectory &output)
-    : comm(comm)
-    , output(output)
-    , pcout(std::cout, dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-    // Per-rank wall times: a communicator-based TimerOutput would synchronise in its destructor,
-    // which it refuses (noisily) while an error unwinds the stack.
-    , timer(timing_text, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
-  {}
+      : comm(comm)
+      , output(output)
+      , pcout(std::cout, dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+      // Per-rank wall times: a communicator-based TimerOutput would synchronise in its destructor,
+      // which it refuses (noisily) while an error unwinds the stack.
+      , timer(timing_text, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
+  {
+  }
 
   bool RunContext::is_root() const
   {

@@ -61,8 +61,9 @@ namespace nlmech
   {
     const auto it = boundary_ids.find(name);
     AssertThrow(it != boundary_ids.end(),
-                ExcMessage("The physical group <" + name + "> does not exist among the boundary groups of mesh <" +
-                           source + ">. Boundary groups present: " + list_names(boundary_ids) + "."));
+                ExcMessage("The physical group <" + name +
+                           "> does not exist among the boundary groups of mesh <" + source +
+                           ">. Boundary groups present: " + list_names(boundary_ids) + "."));
     return it->second;
   }
 
@@ -70,8 +71,9 @@ namespace nlmech
   {
     const auto it = material_ids.find(name);
     AssertThrow(it != material_ids.end(),
-                ExcMessage("The physical group <" + name + "> does not exist among the volume groups of mesh <" +
-                           source + ">. Volume groups present: " + list_names(material_ids) + "."));
+                ExcMessage("The physical group <" + name +
+                           "> does not exist among the volume groups of mesh <" + source +
+                           ">. Volume groups present: " + list_names(material_ids) + "."));
     return it->second;
   }
 
@@ -83,8 +85,9 @@ namespace nlmech
     AssertThrow(fs::is_regular_file(options.file),
                 ExcMessage("The mesh file <" + options.file + "> does not exist."));
     const std::string extension = fs::path(options.file).extension().string();
-    AssertThrow(extension == ".geo" || extension == ".msh",
-                ExcMessage("The mesh file <" + options.file + "> must be a gmsh .geo source or a .msh mesh."));
+    AssertThrow(
+        extension == ".geo" || extension == ".msh",
+        ExcMessage("The mesh file <" + options.file + "> must be a gmsh .geo source or a .msh mesh."));
 
     std::lock_guard<std::mutex> lock(gmsh_mutex);
     GmshSession                 session(options);
@@ -115,12 +118,12 @@ namespace nlmech
       for (int t : types)
         if (t != cell_type)
           {
-            std::string name;
-            int         d, order, n_nodes, n_primary;
+            std::string         name;
+            int                 d, order, n_nodes, n_primary;
             std::vector<double> local;
             gmsh::model::mesh::getElementProperties(t, name, d, order, n_nodes, local, n_primary);
-            AssertThrow(false, ExcMessage("The mesh <" + options.file + "> contains elements of type <" + name +
-                                          ">; nlmech needs linear " +
+            AssertThrow(false, ExcMessage("The mesh <" + options.file + "> contains elements of type <" +
+                                          name + ">; nlmech needs linear " +
                                           (dim == 3 ? "tetrahedra" : "triangles") + "."));
           }
     }
@@ -133,17 +136,17 @@ namespace nlmech
     for (std::size_t i = 0; i < node_tags.size(); ++i)
       node_position[node_tags[i]] = i;
     std::unordered_map<std::size_t, unsigned int> vertex_index;
-    auto vertex_of = [&](std::size_t tag) {
+    auto                                          vertex_of = [&](std::size_t tag) {
       auto it = vertex_index.find(tag);
       if (it != vertex_index.end())
         return it->second;
-      const std::size_t  p = node_position.at(tag);
+      const std::size_t       p = node_position.at(tag);
       dealii::Point<spacedim> x;
       for (int d = 0; d < spacedim; ++d)
         x[d] = coordinates[3 * p + d];
       if (spacedim == 2)
         AssertThrow(std::abs(coordinates[3 * p + 2]) < 1e-12 * (1 + std::abs(x[0]) + std::abs(x[1])),
-                    ExcMessage("The 2D mesh <" + options.file + "> has nodes with z != 0."));
+                                                             ExcMessage("The 2D mesh <" + options.file + "> has nodes with z != 0."));
       const unsigned int index = mesh.vertices.size();
       mesh.vertices.push_back(x);
       vertex_index.emplace(tag, index);
@@ -235,12 +238,12 @@ namespace nlmech
   {
     const std::string &file = mesh.groups.source;
     AssertThrow(!mesh.cells.empty(), ExcMessage("The mesh <" + file + "> has no " +
-                                                 (dim == 3 ? "tetrahedra" : "triangles") + "."));
+                                                (dim == 3 ? "tetrahedra" : "triangles") + "."));
     for (std::size_t c = 0; c < mesh.cells.size(); ++c)
       {
-        const auto                         &cell = mesh.cells[c];
+        const auto                              &cell = mesh.cells[c];
         std::vector<dealii::Tensor<1, spacedim>> edges;
-        double                              longest = 0;
+        double                                   longest = 0;
         for (int v = 1; v <= dim; ++v)
           {
             edges.push_back(mesh.vertices[cell[v]] - mesh.vertices[cell[0]]);
@@ -249,8 +252,9 @@ namespace nlmech
         double measure = 0; // signed volume (3D), signed area (2D), area (surface in 3D)
         if (dim == 3 && spacedim == 3)
           measure = dealii::determinant(dealii::Tensor<2, 3>{{{edges[0][0], edges[1][0], edges[2][0]},
-                                                               {edges[0][1], edges[1][1], edges[2][1]},
-                                                               {edges[0][2], edges[1][2], edges[2][2]}}}) / 6.0;
+                                                              {edges[0][1], edges[1][1], edges[2][1]},
+                                                              {edges[0][2], edges[1][2], edges[2][2]}}}) /
+                    6.0;
         else if (dim == 2 && spacedim == 2)
           measure = 0.5 * (edges[0][0] * edges[1][1] - edges[0][1] * edges[1][0]);
         else if (dim == 2 && spacedim == 3)
@@ -263,8 +267,8 @@ namespace nlmech
         std::ostringstream where;
         where << "element " << c << " (first vertex at " << mesh.vertices[cell[0]] << ")";
         AssertThrow(longest > 0 && std::abs(measure) > 1e-10 * std::pow(longest, dim),
-                    ExcMessage("The mesh <" + file + "> has a degenerate " + where.str() +
-                               ": its " + (dim == 3 ? "volume" : "area") + " is zero."));
+                    ExcMessage("The mesh <" + file + "> has a degenerate " + where.str() + ": its " +
+                               (dim == 3 ? "volume" : "area") + " is zero."));
         AssertThrow(measure > 0, ExcMessage("The mesh <" + file + "> has an inverted " + where.str() +
                                             ": its vertices are ordered with negative orientation."));
       }
@@ -307,9 +311,9 @@ namespace nlmech
 
   template RawSimplexMesh<2> read_simplex_mesh<2>(const MeshOptions &, int);
   template RawSimplexMesh<3> read_simplex_mesh<3>(const MeshOptions &, int);
-  template void check_simplex_mesh<2>(const RawSimplexMesh<2> &, int);
-  template void check_simplex_mesh<3>(const RawSimplexMesh<3> &, int);
-  template MeshGroups load_gmsh_mesh<2, 2>(const MeshOptions &, dealii::Triangulation<2, 2> &);
-  template MeshGroups load_gmsh_mesh<2, 3>(const MeshOptions &, dealii::Triangulation<2, 3> &);
-  template MeshGroups load_gmsh_mesh<3, 3>(const MeshOptions &, dealii::Triangulation<3, 3> &);
+  template void              check_simplex_mesh<2>(const RawSimplexMesh<2> &, int);
+  template void              check_simplex_mesh<3>(const RawSimplexMesh<3> &, int);
+  template MeshGroups        load_gmsh_mesh<2, 2>(const MeshOptions &, dealii::Triangulation<2, 2> &);
+  template MeshGroups        load_gmsh_mesh<2, 3>(const MeshOptions &, dealii::Triangulation<2, 3> &);
+  template MeshGroups        load_gmsh_mesh<3, 3>(const MeshOptions &, dealii::Triangulation<3, 3> &);
 } // namespace nlmech

@@ -7,9 +7,10 @@
 namespace nlmech
 {
   ConstantForceTerm::ConstantForceTerm(std::string term_name, Eigen::VectorXd force)
-    : term_name(std::move(term_name))
-    , force(std::move(force))
-  {}
+      : term_name(std::move(term_name))
+      , force(std::move(force))
+  {
+  }
 
   double ConstantForceTerm::value(const Eigen::VectorXd &x) const
   {
@@ -22,9 +23,10 @@ namespace nlmech
   }
 
   Model::Model(const std::size_t n_unknowns)
-    : n(n_unknowns)
-    , mass(Eigen::VectorXd::Zero(n_unknowns))
-  {}
+      : n(n_unknowns)
+      , mass(Eigen::VectorXd::Zero(n_unknowns))
+  {
+  }
 
   void Model::add_term(std::shared_ptr<const EnergyTerm> term)
   {
@@ -65,7 +67,8 @@ namespace nlmech
 
   bool Model::is_valid(const Eigen::VectorXd &x) const
   {
-    return std::all_of(energy_terms.begin(), energy_terms.end(), [&](const auto &t) { return t->is_valid(x); });
+    return std::all_of(energy_terms.begin(), energy_terms.end(),
+                       [&](const auto &t) { return t->is_valid(x); });
   }
 
   double Model::max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const
@@ -94,15 +97,16 @@ namespace nlmech
     Eigen::VectorXd xp = x, xm = x;
     for (std::size_t i = 0; i < n; ++i)
       {
-        xp[i] = x[i] + step;
-        xm[i] = x[i] - step;
-        const double fd = (term.value(xp) - term.value(xm)) / (2 * step);
+        xp[i]                 = x[i] + step;
+        xm[i]                 = x[i] - step;
+        const double fd       = (term.value(xp) - term.value(xm)) / (2 * step);
         result.gradient_error = std::max(result.gradient_error, std::abs(fd - g[i]) / g_scale);
         Eigen::VectorXd gp = Eigen::VectorXd::Zero(n), gm = Eigen::VectorXd::Zero(n);
         term.add_gradient(xp, gp);
         term.add_gradient(xm, gm);
         const Eigen::VectorXd column = (gp - gm) / (2 * step);
-        result.hessian_error = std::max(result.hessian_error, (column - H.col(i)).lpNorm<Eigen::Infinity>() / h_scale);
+        result.hessian_error =
+            std::max(result.hessian_error, (column - H.col(i)).lpNorm<Eigen::Infinity>() / h_scale);
         xp[i] = xm[i] = x[i];
       }
     return result;

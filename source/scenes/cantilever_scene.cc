@@ -28,8 +28,8 @@ namespace nlmech
     BeamReference beam_reference(const IsotropicMaterial &m, double L, double W, double H, bool gravity_case,
                                  double end_load, double g)
     {
-      const double I = W * H * H * H / 12, A = W * H, E = m.youngs_modulus, G = m.shear_modulus();
-      const double k = 10 * (1 + m.poissons_ratio) / (12 + 11 * m.poissons_ratio);
+      const double  I = W * H * H * H / 12, A = W * H, E = m.youngs_modulus, G = m.shear_modulus();
+      const double  k = 10 * (1 + m.poissons_ratio) / (12 + 11 * m.poissons_ratio);
       BeamReference r;
       if (gravity_case)
         {
@@ -53,13 +53,17 @@ namespace nlmech
         prm.enter_subsection("Geometry");
         prm.declare_entry("Length", "1", Patterns::Double(0), "Beam length L along x [m].");
         prm.declare_entry("Width", "0.1", Patterns::Double(0), "Beam width W along y [m].");
-        prm.declare_entry("Height", "0.1", Patterns::Double(0), "Beam height H along z, the bending direction [m].");
+        prm.declare_entry("Height", "0.1", Patterns::Double(0),
+                          "Beam height H along z, the bending direction [m].");
         prm.leave_subsection();
         prm.enter_subsection("Load");
-        prm.declare_entry("Load case", "end-load", Patterns::Selection("end-load|gravity"),
-                          "end-load: a downward (-z) force on the x = L face; gravity: the beam's own weight.");
-        prm.declare_entry("End load", "1000", Patterns::Double(), "Total downward force on the free end [N].");
-        prm.declare_entry("Gravity", "9.81", Patterns::Double(), "Gravitational acceleration, along -z [m/s^2].");
+        prm.declare_entry(
+            "Load case", "end-load", Patterns::Selection("end-load|gravity"),
+            "end-load: a downward (-z) force on the x = L face; gravity: the beam's own weight.");
+        prm.declare_entry("End load", "1000", Patterns::Double(),
+                          "Total downward force on the free end [N].");
+        prm.declare_entry("Gravity", "9.81", Patterns::Double(),
+                          "Gravitational acceleration, along -z [m/s^2].");
         prm.leave_subsection();
         MeshParameters::declare_parameters(prm, NLMECH_SOURCE_DIR "/meshes/cantilever.geo", 0.025);
         MeshStudyParameters::declare_parameters(prm, "");
@@ -85,7 +89,8 @@ namespace nlmech
         study.material.parse_parameters(prm);
         study.discretization.parse_parameters(prm);
         study.solver.parse_parameters(prm);
-        AssertThrow(length > 0 && width > 0 && height > 0, ExcMessage("The beam dimensions must be positive."));
+        AssertThrow(length > 0 && width > 0 && height > 0,
+                    ExcMessage("The beam dimensions must be positive."));
         study.mesh.constants["L"] = length;
         study.mesh.constants["W"] = width;
         study.mesh.constants["H"] = height;
@@ -100,24 +105,26 @@ namespace nlmech
       void run(RunContext &context) override
       {
         const BeamReference reference =
-          beam_reference(study.material.material, length, width, height, gravity_case, end_load, gravity);
-        auto s         = study;
-        s.title        = std::string("cantilever, ") + (gravity_case ? "own weight" : "end load");
-        s.error_name   = "tip_deflection_relative_error_vs_timoshenko";
+            beam_reference(study.material.material, length, width, height, gravity_case, end_load, gravity);
+        auto s          = study;
+        s.title         = std::string("cantilever, ") + (gravity_case ? "own weight" : "end load");
+        s.error_name    = "tip_deflection_relative_error_vs_timoshenko";
         s.extra_columns = {"tip_deflection_m", "euler_bernoulli_m", "timoshenko_m"};
-        s.configure    = [&](LinearElasticity<3> &problem, const MeshGroups &groups) {
+        s.configure     = [&](LinearElasticity<3> &problem, const MeshGroups &groups) {
           problem.add_dirichlet(groups.boundary_id("clamped"));
           if (gravity_case)
             problem.set_gravity(Tensor<1, 3>({0, 0, -gravity}));
           else
-            problem.add_traction(groups.boundary_id("tip"), Tensor<1, 3>({0, 0, -end_load / (width * height)}));
+            problem.add_traction(groups.boundary_id("tip"),
+                                     Tensor<1, 3>({0, 0, -end_load / (width * height)}));
         };
         s.evaluate = [&](const LinearElasticity<3> &problem, const MeshGroups &groups) {
           const double tip = -problem.boundary_mean_displacement(groups.boundary_id("tip"), 2);
           const double err = std::abs(tip - reference.timoshenko) / std::abs(reference.timoshenko);
-          return std::make_pair(err, std::vector<double>{tip, reference.euler_bernoulli, reference.timoshenko});
+          return std::make_pair(err,
+                                std::vector<double>{tip, reference.euler_bernoulli, reference.timoshenko});
         };
-        const MeshStudyTable table = s.run(context);
+        const MeshStudyTable table  = s.run(context);
         const auto          &finest = table.rows().back();
         const double         tip    = finest.extra[0];
         context.summary.add_figure("tip_deflection", tip, "m");
@@ -125,7 +132,8 @@ namespace nlmech
         context.summary.add_figure("timoshenko_tip_deflection", reference.timoshenko, "m");
         context.summary.add_figure("relative_error_vs_timoshenko", finest.error, "1");
         context.summary.add_figure("relative_error_vs_euler_bernoulli",
-                                   std::abs(tip - reference.euler_bernoulli) / reference.euler_bernoulli, "1");
+                                   std::abs(tip - reference.euler_bernoulli) / reference.euler_bernoulli,
+                                   "1");
         if (table.rows().size() >= 2)
           context.summary.add_figure("fitted_order_in_h", table.fitted_order_in_h(), "1");
         context.pcout << "cantilever: tip deflection " << tip << " m; Timoshenko " << reference.timoshenko
@@ -140,12 +148,12 @@ namespace nlmech
     };
   } // namespace
 
-  NLMECH_REGISTER_SCENE(cantilever,
-                        (SceneInfo{"cantilever",
-                                   "Linear-elastic box cantilever (gmsh) under an end load or its own weight, "
-                                   "against Euler-Bernoulli and Timoshenko beam theory.",
-                                   &CantileverScene::declare_parameters,
-                                   [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
-                                     return std::make_unique<CantileverScene>(prm);
-                                   }}))
+  NLMECH_REGISTER_SCENE(
+      cantilever,
+      (SceneInfo{"cantilever",
+                 "Linear-elastic box cantilever (gmsh) under an end load or its own weight, "
+                 "against Euler-Bernoulli and Timoshenko beam theory.",
+                 &CantileverScene::declare_parameters, [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
+                   return std::make_unique<CantileverScene>(prm);
+                 }}))
 } // namespace nlmech

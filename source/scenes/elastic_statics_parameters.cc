@@ -17,11 +17,11 @@ namespace nlmech
       {
         if (piece.empty())
           continue;
-        char       *end   = nullptr;
+        char        *end   = nullptr;
         const double value = std::strtod(piece.c_str(), &end);
         AssertThrow(end && *end == '\0' && std::isfinite(value),
-                    ExcMessage("The entry <" + entry + "> must be a comma-separated list of numbers; <" + piece +
-                               "> is not a number."));
+                    ExcMessage("The entry <" + entry + "> must be a comma-separated list of numbers; <" +
+                               piece + "> is not a number."));
         values.push_back(value);
       }
     return values;
@@ -31,8 +31,9 @@ namespace nlmech
   Tensor<1, dim> parse_vector(const std::string &text, const std::string &entry)
   {
     const auto values = parse_number_list(text, entry);
-    AssertThrow(values.size() == dim, ExcMessage("The entry <" + entry + "> needs " + std::to_string(dim) +
-                                                 " components; it has " + std::to_string(values.size()) + "."));
+    AssertThrow(values.size() == dim,
+                ExcMessage("The entry <" + entry + "> needs " + std::to_string(dim) + " components; it has " +
+                           std::to_string(values.size()) + "."));
     Tensor<1, dim> v;
     for (unsigned int d = 0; d < dim; ++d)
       v[d] = values[d];
@@ -90,9 +91,10 @@ namespace nlmech
                       "single Mesh/Element size.");
     prm.declare_entry("Write fields", "true", Patterns::Bool(),
                       "Write VTU/PVD displacement and stress fields for every mesh of the study.");
-    prm.declare_entry("Write vertex displacements", "false", Patterns::Bool(),
-                      "Write vertex_displacements.csv (x, y[, z] [m], u_x, u_y[, u_z] [m] per mesh vertex) for the "
-                      "finest mesh; used to compare runs, e.g. serial against MPI.");
+    prm.declare_entry(
+        "Write vertex displacements", "false", Patterns::Bool(),
+        "Write vertex_displacements.csv (x, y[, z] [m], u_x, u_y[, u_z] [m] per mesh vertex) for the "
+        "finest mesh; used to compare runs, e.g. serial against MPI.");
     prm.leave_subsection();
   }
 
@@ -102,7 +104,7 @@ namespace nlmech
     element_sizes = parse_number_list(prm.get("Element sizes"), "Element sizes");
     for (double h : element_sizes)
       AssertThrow(h > 0, ExcMessage("Every mesh-study element size must be positive."));
-    write_fields = prm.get_bool("Write fields");
+    write_fields               = prm.get_bool("Write fields");
     write_vertex_displacements = prm.get_bool("Write vertex displacements");
     prm.leave_subsection();
   }
@@ -152,9 +154,10 @@ namespace nlmech
   void LinearSolverParameters::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Linear solver");
-    prm.declare_entry("Method", "direct", Patterns::Selection("direct|cg-amg"),
-                      "direct: sparse LU through Trilinos Amesos; cg-amg: conjugate gradients preconditioned by "
-                      "Trilinos ML algebraic multigrid.");
+    prm.declare_entry(
+        "Method", "direct", Patterns::Selection("direct|cg-amg"),
+        "direct: sparse LU through Trilinos Amesos; cg-amg: conjugate gradients preconditioned by "
+        "Trilinos ML algebraic multigrid.");
     prm.declare_entry("Direct solver", "mumps", Patterns::Selection("mumps|klu"),
                       "Amesos back end for Method = direct: mumps (multifrontal, parallel) or klu (serial).");
     prm.declare_entry("Relative tolerance", "1e-10", Patterns::Double(0),

@@ -54,15 +54,17 @@ namespace nlmech
         prm.leave_subsection();
         prm.enter_subsection("Loads");
         gravity = parse_number_list(prm.get("Gravity"), "Gravity");
-        AssertThrow(gravity.size() == dim, ExcMessage("The entry <Gravity> needs " + std::to_string(dim) +
-                                                      " components for Dimension = " + std::to_string(dim) + "."));
+        AssertThrow(gravity.size() == dim,
+                    ExcMessage("The entry <Gravity> needs " + std::to_string(dim) +
+                               " components for Dimension = " + std::to_string(dim) + "."));
         for (const auto &item : Utilities::split_string_list(prm.get("Tractions"), ';'))
           {
             if (item.empty())
               continue;
             const auto parts = Utilities::split_string_list(item, ':');
-            AssertThrow(parts.size() == 2 && !parts[0].empty(),
-                        ExcMessage("Tractions must read `group: t_x, t_y, t_z; ...`; <" + item + "> does not."));
+            AssertThrow(
+                parts.size() == 2 && !parts[0].empty(),
+                ExcMessage("Tractions must read `group: t_x, t_y, t_z; ...`; <" + item + "> does not."));
             const auto t = parse_number_list(parts[1], "Tractions");
             AssertThrow(t.size() == dim, ExcMessage("The traction on <" + parts[0] + "> needs " +
                                                     std::to_string(dim) + " components."));
@@ -75,7 +77,8 @@ namespace nlmech
 
       void validate() const override
       {
-        AssertThrow(std::filesystem::exists(mesh.file), ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
+        AssertThrow(std::filesystem::exists(mesh.file),
+                    ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
       }
 
       void run(RunContext &context) override
@@ -91,7 +94,8 @@ namespace nlmech
       void run_in(RunContext &context) const
       {
         ElasticStaticsStudy<d> s;
-        s.mesh = mesh, s.study = study, s.material = material, s.discretization = discretization, s.solver = solver;
+        s.mesh = mesh, s.study = study, s.material = material, s.discretization = discretization,
+        s.solver     = solver;
         s.title      = "elastic statics (" + std::filesystem::path(mesh.file).filename().string() + ")";
         s.error_name = "max_displacement_m"; // no reference: the plot shows the quantity's convergence
         for (const auto &t : tractions)
@@ -124,27 +128,29 @@ namespace nlmech
         };
         const MeshStudyTable table = s.run(context);
         context.summary.add_figure("max_displacement", table.rows().back().error, "m");
-        context.pcout << "elastic statics: max displacement " << table.rows().back().error << " m" << std::endl;
+        context.pcout << "elastic statics: max displacement " << table.rows().back().error << " m"
+                      << std::endl;
       }
 
-      unsigned int                                            dim = 3;
-      MeshParameters                                          mesh;
-      MeshStudyParameters                                     study;
-      MaterialParameters                                      material;
-      DiscretizationParameters                                discretization;
-      LinearSolverParameters                                  solver;
-      std::vector<std::string>                                clamped;
-      std::vector<double>                                     gravity;
+      unsigned int                                             dim = 3;
+      MeshParameters                                           mesh;
+      MeshStudyParameters                                      study;
+      MaterialParameters                                       material;
+      DiscretizationParameters                                 discretization;
+      LinearSolverParameters                                   solver;
+      std::vector<std::string>                                 clamped;
+      std::vector<double>                                      gravity;
       std::vector<std::pair<std::string, std::vector<double>>> tractions;
     };
   } // namespace
 
   NLMECH_REGISTER_SCENE(elastic_statics,
-                        (SceneInfo{"elastic-statics",
-                                   "Linear-elastic statics on any gmsh mesh: clamped groups, surface tractions "
-                                   "and gravity by physical-group name.",
-                                   &ElasticStaticsScene::declare_parameters,
-                                   [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
-                                     return std::make_unique<ElasticStaticsScene>(prm);
-                                   }}))
+                        (SceneInfo{
+                            "elastic-statics",
+                            "Linear-elastic statics on any gmsh mesh: clamped groups, surface tractions "
+                            "and gravity by physical-group name.",
+                            &ElasticStaticsScene::declare_parameters,
+                            [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
+                              return std::make_unique<ElasticStaticsScene>(prm);
+                            }}))
 } // namespace nlmech

@@ -19,7 +19,7 @@ namespace nlmech
   template <int dim>
   MeshStudyTable ElasticStaticsStudy<dim>::run(RunContext &context) const
   {
-    const std::vector<double> sizes = study.sizes(mesh.element_size);
+    const std::vector<double> sizes   = study.sizes(mesh.element_size);
     std::vector<std::string>  columns = extra_columns;
     columns.insert(columns.end(), {"solve_time_s", "solver_iterations", "peak_memory_MiB"});
     MeshStudyTable table(error_name, columns);
@@ -27,16 +27,16 @@ namespace nlmech
     double total_work = 0;
     for (double h : sizes)
       total_work += std::pow(h > 0 ? h : 1.0, -double(dim));
-    ProgressReporter progress(title, total_work, context.comm, std::cout);
-    double           work_done = 0;
+    ProgressReporter                            progress(title, total_work, context.comm, std::cout);
+    double                                      work_done = 0;
     std::vector<std::pair<double, std::string>> pvd_entries;
 
     for (unsigned int level = 0; level < sizes.size(); ++level)
       {
-        Timer level_timer(context.comm, true);
+        Timer                                level_timer(context.comm, true);
         parallel::shared::Triangulation<dim> tria(context.comm, Triangulation<dim>::none, false,
                                                   parallel::shared::Triangulation<dim>::partition_metis);
-        MeshGroups groups;
+        MeshGroups                           groups;
         {
           TimerOutput::Scope t(context.timer, "mesh (gmsh + checks)");
           groups = load_gmsh_mesh(mesh.options(sizes[level]), tria);
@@ -66,7 +66,7 @@ namespace nlmech
         if (study.write_fields)
           {
             TimerOutput::Scope t(context.timer, "output (VTU)");
-            char name[64];
+            char               name[64];
             std::snprintf(name, sizeof(name), "solution-%02u", level);
             const std::string record = problem.write_vtu(context.output.file(""), name);
             pvd_entries.emplace_back(level, record);
@@ -127,8 +127,8 @@ namespace nlmech
           }
         if (table.rows().size() >= 2)
           {
-            const std::string problem_with_plot =
-              MeshStudyTable::plot(context.output.file("mesh_study.csv"), context.output.file("mesh_study.png"), title);
+            const std::string problem_with_plot = MeshStudyTable::plot(
+                context.output.file("mesh_study.csv"), context.output.file("mesh_study.png"), title);
             if (!problem_with_plot.empty())
               std::cerr << "nlmech: warning: mesh_study.png not written: " << problem_with_plot << std::endl;
             context.summary.add_bool("mesh_study_plot_written", problem_with_plot.empty());

@@ -18,18 +18,31 @@ namespace nlmech
 
   namespace
   {
-    double amplitude(unsigned int d) { return 0.01 * (1 + 0.5 * d); }
-    double phase(unsigned int d, unsigned int k) { return 0.3 * (d + 1) + 0.7 * k; }
-    double affine_offset(unsigned int d) { return 0.001 * (d + 1); }
-    double affine_gradient(unsigned int d, unsigned int k) { return 0.002 * (1 + d) - 0.003 * k + 0.001 * d * k; }
+    double amplitude(unsigned int d)
+    {
+      return 0.01 * (1 + 0.5 * d);
+    }
+    double phase(unsigned int d, unsigned int k)
+    {
+      return 0.3 * (d + 1) + 0.7 * k;
+    }
+    double affine_offset(unsigned int d)
+    {
+      return 0.001 * (d + 1);
+    }
+    double affine_gradient(unsigned int d, unsigned int k)
+    {
+      return 0.002 * (1 + d) - 0.003 * k + 0.001 * d * k;
+    }
     constexpr double omega = numbers::PI;
   } // namespace
 
   template <int dim>
   ManufacturedDisplacement<dim>::ManufacturedDisplacement(const bool affine)
-    : Function<dim>(dim)
-    , affine(affine)
-  {}
+      : Function<dim>(dim)
+      , affine(affine)
+  {
+  }
 
   template <int dim>
   double ManufacturedDisplacement<dim>::value(const Point<dim> &p, const unsigned int d) const
@@ -67,7 +80,8 @@ namespace nlmech
   }
 
   template <int dim>
-  SymmetricTensor<2, dim> ManufacturedDisplacement<dim>::hessian(const Point<dim> &p, const unsigned int d) const
+  SymmetricTensor<2, dim> ManufacturedDisplacement<dim>::hessian(const Point<dim>  &p,
+                                                                 const unsigned int d) const
   {
     SymmetricTensor<2, dim> h;
     if (affine)
@@ -92,12 +106,14 @@ namespace nlmech
   }
 
   template <int dim>
-  ManufacturedBodyForce<dim>::ManufacturedBodyForce(const ManufacturedDisplacement<dim> &u, double lambda, double mu)
-    : Function<dim>(dim)
-    , u(u)
-    , lambda(lambda)
-    , mu(mu)
-  {}
+  ManufacturedBodyForce<dim>::ManufacturedBodyForce(const ManufacturedDisplacement<dim> &u, double lambda,
+                                                    double mu)
+      : Function<dim>(dim)
+      , u(u)
+      , lambda(lambda)
+      , mu(mu)
+  {
+  }
 
   template <int dim>
   double ManufacturedBodyForce<dim>::value(const Point<dim> &p, const unsigned int i) const
@@ -123,9 +139,10 @@ namespace nlmech
       {
         prm.declare_entry("Dimension", "3", Patterns::Integer(2, 3),
                           "Space dimension: 3 (tetrahedra) or 2 (triangles, plane strain) [-].");
-        prm.declare_entry("Manufactured field", "trigonometric", Patterns::Selection("trigonometric|affine"),
-                          "trigonometric: u_d = A_d prod_k sin(pi x_k + c_dk), for convergence orders; affine: "
-                          "u = a + B x with no body force, the patch test, reproduced to round-off.");
+        prm.declare_entry(
+            "Manufactured field", "trigonometric", Patterns::Selection("trigonometric|affine"),
+            "trigonometric: u_d = A_d prod_k sin(pi x_k + c_dk), for convergence orders; affine: "
+            "u = a + B x with no body force, the patch test, reproduced to round-off.");
         MeshParameters::declare_parameters(prm, "", 0.25);
         MeshStudyParameters::declare_parameters(prm, "0.25, 0.125, 0.0625");
         MaterialParameters::declare_parameters(prm, 1e6, 0.3, 0);
@@ -140,7 +157,8 @@ namespace nlmech
         mesh.parse_parameters(prm);
         prm.enter_subsection("Mesh");
         if (prm.get("Mesh file").empty())
-          mesh.file = std::string(NLMECH_SOURCE_DIR) + (dim == 3 ? "/meshes/unit_cube.geo" : "/meshes/unit_square.geo");
+          mesh.file = std::string(NLMECH_SOURCE_DIR) +
+                      (dim == 3 ? "/meshes/unit_cube.geo" : "/meshes/unit_square.geo");
         prm.leave_subsection();
         study.parse_parameters(prm);
         material.parse_parameters(prm);
@@ -150,7 +168,8 @@ namespace nlmech
 
       void validate() const override
       {
-        AssertThrow(std::filesystem::exists(mesh.file), ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
+        AssertThrow(std::filesystem::exists(mesh.file),
+                    ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
       }
 
       void run(RunContext &context) override
@@ -166,16 +185,19 @@ namespace nlmech
       void run_in(RunContext &context) const
       {
         ElasticStaticsStudy<d> s;
-        s.mesh = mesh, s.study = study, s.material = material, s.discretization = discretization, s.solver = solver;
-        s.title      = std::string("manufactured solution (") + (affine ? "affine" : "trigonometric") + ", " +
+        s.mesh = mesh, s.study = study, s.material = material, s.discretization = discretization,
+        s.solver = solver;
+        s.title  = std::string("manufactured solution (") + (affine ? "affine" : "trigonometric") + ", " +
                   std::to_string(d) + "D, degree " + std::to_string(discretization.degree) + ")";
-        s.error_name = "l2_error_m";
+        s.error_name    = "l2_error_m";
         s.extra_columns = {"relative_l2_error", "max_vertex_error_m"};
         const ManufacturedDisplacement<d> exact(affine);
-        const ManufacturedBodyForce<d>    force(exact, material.material.lame_lambda(), material.material.shear_modulus());
+        const ManufacturedBodyForce<d>    force(exact, material.material.lame_lambda(),
+                                                material.material.shear_modulus());
         s.configure = [&](LinearElasticity<d> &problem, const MeshGroups &groups) {
           AssertThrow(!groups.boundary_ids.empty(),
-                      ExcMessage("The mesh <" + mesh.file + "> has no boundary physical group for the Dirichlet data."));
+                      ExcMessage("The mesh <" + mesh.file +
+                                 "> has no boundary physical group for the Dirichlet data."));
           for (const auto &g : groups.boundary_ids)
             problem.add_dirichlet(g.second, &exact);
           if (!affine)
@@ -188,7 +210,7 @@ namespace nlmech
           const double                     norm = problem.l2_error(zero);
           return std::make_pair(error, std::vector<double>{error / norm, problem.max_vertex_error(exact)});
         };
-        MeshStudyTable table = s.run(context);
+        MeshStudyTable table  = s.run(context);
         const auto    &finest = table.rows().back();
         context.summary.add_string("manufactured_field", affine ? "affine" : "trigonometric");
         context.summary.add_figure("l2_error", finest.error, "m");
@@ -198,7 +220,8 @@ namespace nlmech
             context.summary.add_figure("fitted_l2_order_in_h", table.fitted_order_in_h(), "1");
             context.summary.add_figure("fitted_l2_order_in_dofs", table.fitted_order_in_dofs(d), "1");
             context.pcout << "manufactured solution: fitted L2 order " << table.fitted_order_in_h()
-                          << " in h, " << table.fitted_order_in_dofs(d) << " in DOFs^(-1/" << d << ")" << std::endl;
+                          << " in h, " << table.fitted_order_in_dofs(d) << " in DOFs^(-1/" << d << ")"
+                          << std::endl;
           }
         context.pcout << "manufactured solution: finest L2 error " << finest.error << " m, max vertex error "
                       << finest.extra[1] << " m" << std::endl;
@@ -214,12 +237,12 @@ namespace nlmech
     };
   } // namespace
 
-  NLMECH_REGISTER_SCENE(manufactured,
-                        (SceneInfo{"manufactured-solution",
-                                   "Linear elasticity on a unit square/cube with a manufactured displacement: L2 "
-                                   "error, convergence order, and the affine patch test.",
-                                   &ManufacturedScene::declare_parameters,
-                                   [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
-                                     return std::make_unique<ManufacturedScene>(prm);
-                                   }}))
+  NLMECH_REGISTER_SCENE(
+      manufactured,
+      (SceneInfo{"manufactured-solution",
+                 "Linear elasticity on a unit square/cube with a manufactured displacement: L2 "
+                 "error, convergence order, and the affine patch test.",
+                 &ManufacturedScene::declare_parameters, [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
+                   return std::make_unique<ManufacturedScene>(prm);
+                 }}))
 } // namespace nlmech

@@ -23,10 +23,10 @@ namespace
   template <int dim, int spacedim>
   double measure(const Triangulation<dim, spacedim> &tria)
   {
-    const MappingFE<dim, spacedim> mapping(FE_SimplexP<dim, spacedim>(1));
+    const MappingFE<dim, spacedim>   mapping(FE_SimplexP<dim, spacedim>(1));
     const FE_SimplexP<dim, spacedim> fe(1);
-    FEValues<dim, spacedim> values(mapping, fe, QGaussSimplex<dim>(1), update_JxW_values);
-    double total = 0;
+    FEValues<dim, spacedim>          values(mapping, fe, QGaussSimplex<dim>(1), update_JxW_values);
+    double                           total = 0;
     for (const auto &cell : tria.active_cell_iterators())
       {
         values.reinit(cell);
@@ -90,9 +90,9 @@ TEST(GmshMesh, CantileverVolumeGroupsAndConstants)
 
 TEST(GmshMesh, MissingGroupIsAClearError)
 {
-  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.1, {}};
-  Triangulation<3> tria;
-  const MeshGroups groups = load_gmsh_mesh(options, tria);
+  MeshOptions       options{source_dir + "/meshes/cantilever.geo", 0.1, {}};
+  Triangulation<3>  tria;
+  const MeshGroups  groups  = load_gmsh_mesh(options, tria);
   const std::string message = error_of([&] { groups.boundary_id("no-such-group"); });
   EXPECT_NE(message.find("<no-such-group> does not exist"), std::string::npos) << message;
   EXPECT_NE(message.find("clamped, sides, tip"), std::string::npos) << message;
@@ -100,7 +100,7 @@ TEST(GmshMesh, MissingGroupIsAClearError)
 
 TEST(GmshMesh, UnitSquareTriangles)
 {
-  MeshOptions options{source_dir + "/meshes/unit_square.geo", 0.1, {}};
+  MeshOptions      options{source_dir + "/meshes/unit_square.geo", 0.1, {}};
   Triangulation<2> tria;
   const MeshGroups groups = load_gmsh_mesh(options, tria);
   EXPECT_NEAR(measure(tria), 1.0, 1e-12);
@@ -111,7 +111,7 @@ TEST(GmshMesh, UnitSquareTriangles)
 
 TEST(GmshMesh, SphereSurfaceAsTriangulation2In3)
 {
-  MeshOptions options{source_dir + "/meshes/sphere_surface.geo", 0.1, {{"R", 2.0}}};
+  MeshOptions         options{source_dir + "/meshes/sphere_surface.geo", 0.1, {{"R", 2.0}}};
   Triangulation<2, 3> tria;
   load_gmsh_mesh(options, tria);
   const double exact = 4 * M_PI * 4.0;
@@ -124,32 +124,32 @@ TEST(GmshMesh, SphereSurfaceAsTriangulation2In3)
 
 TEST(GmshMesh, InvertedElementIsRejected)
 {
-  MeshOptions options{source_dir + "/tests/data/inverted_tet.msh", 0, {}};
-  Triangulation<3> tria;
+  MeshOptions       options{source_dir + "/tests/data/inverted_tet.msh", 0, {}};
+  Triangulation<3>  tria;
   const std::string message = error_of([&] { load_gmsh_mesh(options, tria); });
   EXPECT_NE(message.find("inverted element 1"), std::string::npos) << message;
 }
 
 TEST(GmshMesh, DegenerateElementIsRejected)
 {
-  MeshOptions options{source_dir + "/tests/data/degenerate_tet.msh", 0, {}};
-  Triangulation<3> tria;
+  MeshOptions       options{source_dir + "/tests/data/degenerate_tet.msh", 0, {}};
+  Triangulation<3>  tria;
   const std::string message = error_of([&] { load_gmsh_mesh(options, tria); });
   EXPECT_NE(message.find("degenerate element 1"), std::string::npos) << message;
 }
 
 TEST(GmshMesh, EmptyMeshIsRejected)
 {
-  MeshOptions options{source_dir + "/tests/data/surface_only.msh", 0, {}};
-  Triangulation<3> tria;
+  MeshOptions       options{source_dir + "/tests/data/surface_only.msh", 0, {}};
+  Triangulation<3>  tria;
   const std::string message = error_of([&] { load_gmsh_mesh(options, tria); });
   EXPECT_NE(message.find("has no tetrahedra"), std::string::npos) << message;
 }
 
 TEST(GmshMesh, MissingFileIsRejected)
 {
-  MeshOptions options{source_dir + "/meshes/does-not-exist.geo", 0.1, {}};
-  Triangulation<3> tria;
+  MeshOptions       options{source_dir + "/meshes/does-not-exist.geo", 0.1, {}};
+  Triangulation<3>  tria;
   const std::string message = error_of([&] { load_gmsh_mesh(options, tria); });
   EXPECT_NE(message.find("does not exist"), std::string::npos) << message;
 }

@@ -16,7 +16,7 @@ namespace nlmech
   public:
     explicit AtomicFile(const std::string &path);
     ~AtomicFile();
-    AtomicFile(const AtomicFile &) = delete;
+    AtomicFile(const AtomicFile &)            = delete;
     AtomicFile &operator=(const AtomicFile &) = delete;
 
     std::ostream &stream() { return out; }

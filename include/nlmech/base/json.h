@@ -23,7 +23,7 @@ namespace nlmech
 
   private:
     std::vector<std::pair<std::string, std::string>> entries; // key, serialized value
-    std::vector<JsonObject> nested;                           // objects, referenced from entries
+    std::vector<JsonObject>                          nested;  // objects, referenced from entries
   };
 
   std::string json_number(double value);

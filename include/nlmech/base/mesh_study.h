@@ -15,18 +15,18 @@ namespace nlmech
   public:
     struct Row
     {
-      unsigned int        level = 0;
-      double              element_size = 0;   // m
-      unsigned long long  n_cells = 0;
-      unsigned long long  n_dofs = 0;
-      double              error = 0;          // in the unit given by error_name
+      unsigned int        level        = 0;
+      double              element_size = 0; // m
+      unsigned long long  n_cells      = 0;
+      unsigned long long  n_dofs       = 0;
+      double              error        = 0; // in the unit given by error_name
       double              wall_seconds = 0;
-      std::vector<double> extra;              // values of the extra columns
+      std::vector<double> extra; // values of the extra columns
     };
 
     MeshStudyTable(const std::string &error_name, const std::vector<std::string> &extra_columns = {});
 
-    void add(const Row &row);
+    void                    add(const Row &row);
     const std::vector<Row> &rows() const { return table; }
 
     /// Least-squares slope of log(error) against log(element size): the order in h.
@@ -39,7 +39,8 @@ namespace nlmech
     void write_csv(const std::string &path) const;
     /// Runs contrib/plot/mesh_study.py on a written CSV; returns an empty string or the reason it
     /// could not plot.
-    static std::string plot(const std::string &csv_path, const std::string &png_path, const std::string &title);
+    static std::string plot(const std::string &csv_path, const std::string &png_path,
+                            const std::string &title);
 
   private:
     std::string              error_name;

@@ -20,12 +20,12 @@ namespace nlmech
   public:
     RunContext(MPI_Comm comm, OutputDirectory &output);
 
-    MPI_Comm                    comm;
-    OutputDirectory            &output;
-    dealii::ConditionalOStream  pcout;
-    std::ostringstream          timing_text;
-    dealii::TimerOutput         timer;
-    JsonObject                  summary;
+    MPI_Comm                   comm;
+    OutputDirectory           &output;
+    dealii::ConditionalOStream pcout;
+    std::ostringstream         timing_text;
+    dealii::TimerOutput        timer;
+    JsonObject                 summary;
 
     bool is_root() const;
   };

@@ -25,9 +25,9 @@ namespace nlmech
 
   struct SceneInfo
   {
-    std::string                                                    name;
-    std::string                                                    description;
-    std::function<void(dealii::ParameterHandler &)>                declare_parameters;
+    std::string                                                       name;
+    std::string                                                       description;
+    std::function<void(dealii::ParameterHandler &)>                   declare_parameters;
     std::function<std::unique_ptr<Scene>(dealii::ParameterHandler &)> create; // parses and checks
   };
 
@@ -36,12 +36,12 @@ namespace nlmech
   public:
     static SceneRegistry &instance();
 
-    void                           add(const SceneInfo &info);
+    void add(const SceneInfo &info);
     /// Throws with the list of valid names when `name` is not registered.
-    const SceneInfo               &get(const std::string &name) const;
-    bool                           has(const std::string &name) const;
-    const std::vector<SceneInfo>  &scenes() const { return registered; }
-    std::string                    names_separated_by(const std::string &separator) const;
+    const SceneInfo              &get(const std::string &name) const;
+    bool                          has(const std::string &name) const;
+    const std::vector<SceneInfo> &scenes() const { return registered; }
+    std::string                   names_separated_by(const std::string &separator) const;
 
   private:
     std::vector<SceneInfo> registered;
@@ -54,8 +54,8 @@ namespace nlmech
   };
 } // namespace nlmech
 
-#define NLMECH_REGISTER_SCENE(identifier, info) \
-  namespace                                     \
-  {                                             \
+#define NLMECH_REGISTER_SCENE(identifier, info)                      \
+  namespace                                                          \
+  {                                                                  \
     const nlmech::SceneRegistration identifier##_registration(info); \
   }

@@ -19,7 +19,7 @@ namespace nlmech
   class EnergyTerm
   {
   public:
-    virtual ~EnergyTerm() = default;
+    virtual ~EnergyTerm()            = default;
     virtual std::string name() const = 0;
 
     virtual double value(const Eigen::VectorXd &x) const = 0;
@@ -48,9 +48,10 @@ namespace nlmech
     using Hessian                  = Sacado::Fad::SFad<Gradient, N>;
 
     ElementEnergyTerm(std::string term_name, Element element)
-      : term_name(std::move(term_name))
-      , element(std::move(element))
-    {}
+        : term_name(std::move(term_name))
+        , element(std::move(element))
+    {
+    }
 
     std::string    name() const override { return term_name; }
     const Element &elements() const { return element; }
@@ -67,7 +68,7 @@ namespace nlmech
     {
       for (std::size_t e = 0; e < element.n_elements(); ++e)
         {
-          const auto dofs = element.dofs(e);
+          const auto              dofs = element.dofs(e);
           std::array<Gradient, N> local;
           for (std::size_t i = 0; i < N; ++i)
             local[i] = Gradient(N, i, x[dofs[i]]);
@@ -81,11 +82,11 @@ namespace nlmech
     {
       for (std::size_t e = 0; e < element.n_elements(); ++e)
         {
-          const auto dofs = element.dofs(e);
+          const auto             dofs = element.dofs(e);
           std::array<Hessian, N> local;
           for (std::size_t i = 0; i < N; ++i)
             {
-              local[i]     = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
+              local[i] = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
             }
           const Hessian energy = element.energy(local, e);
           for (std::size_t i = 0; i < N; ++i)
@@ -97,11 +98,11 @@ namespace nlmech
     /// Element energies' local gradient, for tests and hand-tuned kernels to compare against.
     std::array<double, N * N> local_hessian(const Eigen::VectorXd &x, std::size_t e) const
     {
-      const auto dofs = element.dofs(e);
+      const auto             dofs = element.dofs(e);
       std::array<Hessian, N> local;
       for (std::size_t i = 0; i < N; ++i)
         local[i] = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
-      const Hessian energy = element.energy(local, e);
+      const Hessian             energy = element.energy(local, e);
       std::array<double, N * N> out;
       for (std::size_t i = 0; i < N; ++i)
         for (std::size_t j = 0; j < N; ++j)

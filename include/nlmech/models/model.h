@@ -17,8 +17,8 @@ namespace nlmech
   public:
     explicit Model(std::size_t n_unknowns);
 
-    std::size_t n_unknowns() const { return n; }
-    void        add_term(std::shared_ptr<const EnergyTerm> term);
+    std::size_t                                           n_unknowns() const { return n; }
+    void                                                  add_term(std::shared_ptr<const EnergyTerm> term);
     const std::vector<std::shared_ptr<const EnergyTerm>> &terms() const { return energy_terms; }
 
     /// Lumped (diagonal) mass per unknown [kg].
@@ -37,10 +37,10 @@ namespace nlmech
     double                      max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const;
 
   private:
-    std::size_t                                     n;
-    std::vector<std::shared_ptr<const EnergyTerm>>  energy_terms;
-    Eigen::VectorXd                                 mass;
-    std::map<std::size_t, double>                   fixed_values;
+    std::size_t                                    n;
+    std::vector<std::shared_ptr<const EnergyTerm>> energy_terms;
+    Eigen::VectorXd                                mass;
+    std::map<std::size_t, double>                  fixed_values;
   };
 
   /// Largest relative differences between analytic and central finite-difference derivatives.

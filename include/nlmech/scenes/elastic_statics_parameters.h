@@ -16,7 +16,7 @@ namespace nlmech
   /// subsection Mesh
   struct MeshParameters
   {
-    std::string                   file;      // resolved path
+    std::string                   file; // resolved path
     double                        element_size = 0;
     std::map<std::string, double> constants;
 
@@ -30,7 +30,7 @@ namespace nlmech
   struct MeshStudyParameters
   {
     std::vector<double> element_sizes; // empty: one run at the Mesh element size
-    bool                write_fields = true;
+    bool                write_fields               = true;
     bool                write_vertex_displacements = false;
 
     static void declare_parameters(dealii::ParameterHandler &prm, const std::string &default_sizes);

@@ -23,13 +23,14 @@ namespace nlmech
     LinearSolverParameters   solver;
 
     std::string              title;
-    std::string              error_name;   // CSV column, with unit
+    std::string              error_name; // CSV column, with unit
     std::vector<std::string> extra_columns;
 
     /// Boundary conditions and loads for one mesh (groups by name).
     std::function<void(LinearElasticity<dim> &, const MeshGroups &)> configure;
     /// Error against the scene's reference and the extra columns, for one solved mesh.
-    std::function<std::pair<double, std::vector<double>>(const LinearElasticity<dim> &, const MeshGroups &)> evaluate;
+    std::function<std::pair<double, std::vector<double>>(const LinearElasticity<dim> &, const MeshGroups &)>
+        evaluate;
 
     /// Runs all levels; writes mesh_study.csv/.png, solution.pvd and per-level VTU into the context.
     MeshStudyTable run(RunContext &context) const;

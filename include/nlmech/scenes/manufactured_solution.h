@@ -15,9 +15,10 @@ namespace nlmech
     /// trigonometric: u_d = A_d prod_k sin(pi x_k + c_dk).
     explicit ManufacturedDisplacement(bool affine);
 
-    double                          value(const dealii::Point<dim> &p, unsigned int component) const override;
-    dealii::Tensor<1, dim>          gradient(const dealii::Point<dim> &p, unsigned int component) const override;
-    dealii::SymmetricTensor<2, dim> hessian(const dealii::Point<dim> &p, unsigned int component) const override;
+    double                 value(const dealii::Point<dim> &p, unsigned int component) const override;
+    dealii::Tensor<1, dim> gradient(const dealii::Point<dim> &p, unsigned int component) const override;
+    dealii::SymmetricTensor<2, dim> hessian(const dealii::Point<dim> &p,
+                                            unsigned int              component) const override;
 
   private:
     bool affine;

@@ -7,11 +7,11 @@ namespace nlmech
 {
   template class ElementEnergyTerm<LinearElasticTetElements>;
 
-  LinearElasticTetElements::LinearElasticTetElements(const std::vector<dealii::Point<3>>         &vertices,
+  LinearElasticTetElements::LinearElasticTetElements(const std::vector<dealii::Point<3>>          &vertices,
                                                      const std::vector<std::vector<unsigned int>> &cells,
                                                      const IsotropicMaterial                      &material)
-    : lambda(material.lame_lambda())
-    , mu(material.shear_modulus())
+      : lambda(material.lame_lambda())
+      , mu(material.shear_modulus())
   {
     material.check();
     for (const auto &c : cells)
@@ -24,8 +24,8 @@ namespace nlmech
             D[d][a] = vertices[c[a + 1]][d] - vertices[c[0]][d];
         const double det = dealii::determinant(D);
         AssertThrow(det > 0, dealii::ExcMessage("Inverted or degenerate tetrahedron in the elastic term."));
-        const dealii::Tensor<2, 3>               Dinv = dealii::invert(D);
-        std::array<std::array<double, 3>, 4>     g{};
+        const dealii::Tensor<2, 3>           Dinv = dealii::invert(D);
+        std::array<std::array<double, 3>, 4> g{};
         for (int a = 0; a < 3; ++a)
           for (int d = 0; d < 3; ++d)
             {
@@ -47,17 +47,15 @@ namespace nlmech
     return d;
   }
 
-  Model make_linear_elastic_tet_model(const RawSimplexMesh<3>        &mesh,
-                                      const IsotropicMaterial        &material,
+  Model make_linear_elastic_tet_model(const RawSimplexMesh<3> &mesh, const IsotropicMaterial &material,
                                       const dealii::Tensor<1, 3>     &gravity,
                                       const std::vector<std::string> &clamped_groups)
   {
     check_simplex_mesh(mesh, 3);
     const std::size_t n = 3 * mesh.vertices.size();
     Model             model(n);
-    auto              term =
-      std::make_shared<LinearElasticTetTerm>("linear elastic tetrahedra",
-                                             LinearElasticTetElements(mesh.vertices, mesh.cells, material));
+    auto              term = std::make_shared<LinearElasticTetTerm>(
+        "linear elastic tetrahedra", LinearElasticTetElements(mesh.vertices, mesh.cells, material));
     Eigen::VectorXd weight = Eigen::VectorXd::Zero(n);
     for (std::size_t e = 0; e < mesh.cells.size(); ++e)
       for (unsigned int a = 0; a < 4; ++a)

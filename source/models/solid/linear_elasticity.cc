@@ -33,28 +33,27 @@ namespace nlmech
 
   void IsotropicMaterial::check() const
   {
-    AssertThrow(youngs_modulus > 0,
-                ExcMessage("Young's modulus must be positive; it is " + std::to_string(youngs_modulus) + " Pa."));
+    AssertThrow(youngs_modulus > 0, ExcMessage("Young's modulus must be positive; it is " +
+                                               std::to_string(youngs_modulus) + " Pa."));
     AssertThrow(poissons_ratio < 0.5,
                 ExcMessage("Poisson's ratio must be below 0.5 (0.5 is an incompressible material, which a "
                            "displacement-only formulation cannot represent); it is " +
                            std::to_string(poissons_ratio) + "."));
-    AssertThrow(poissons_ratio > -1,
-                ExcMessage("Poisson's ratio must be above -1; it is " + std::to_string(poissons_ratio) + "."));
+    AssertThrow(poissons_ratio > -1, ExcMessage("Poisson's ratio must be above -1; it is " +
+                                                std::to_string(poissons_ratio) + "."));
     AssertThrow(density >= 0, ExcMessage("The density must not be negative."));
   }
 
   template <int dim>
   LinearElasticity<dim>::LinearElasticity(const parallel::shared::Triangulation<dim> &tria,
-                                          const IsotropicMaterial                   &material,
-                                          const unsigned int                         degree)
-    : comm(tria.get_communicator())
-    , tria(tria)
-    , material(material)
-    , degree(degree)
-    , fe(FE_SimplexP<dim>(degree), dim)
-    , mapping(FE_SimplexP<dim>(1))
-    , dof_handler(tria)
+                                          const IsotropicMaterial &material, const unsigned int degree)
+      : comm(tria.get_communicator())
+      , tria(tria)
+      , material(material)
+      , degree(degree)
+      , fe(FE_SimplexP<dim>(degree), dim)
+      , mapping(FE_SimplexP<dim>(1))
+      , dof_handler(tria)
   {
     material.check();
     AssertThrow(degree == 1 || degree == 2, ExcMessage("The polynomial degree must be 1 or 2."));
@@ -95,9 +94,9 @@ namespace nlmech
     constraints.reinit(locally_relevant);
     const Functions::ZeroFunction<dim> zero(dim);
     for (const auto &d : dirichlet)
-      VectorTools::interpolate_boundary_values(mapping, dof_handler, d.first,
-                                               d.second ? *d.second : static_cast<const Function<dim> &>(zero),
-                                               constraints);
+      VectorTools::interpolate_boundary_values(
+          mapping, dof_handler, d.first, d.second ? *d.second : static_cast<const Function<dim> &>(zero),
+          constraints);
     constraints.close();
 
     DynamicSparsityPattern dsp(locally_relevant);
@@ -115,16 +114,16 @@ namespace nlmech
     rhs    = 0;
     const QGaussSimplex<dim>     quadrature(degree + 1);
     const QGaussSimplex<dim - 1> face_quadrature(degree + 1);
-    FEValues<dim>     fe_values(mapping, fe, quadrature,
-                                update_values | update_gradients | update_quadrature_points | update_JxW_values);
+    FEValues<dim>                fe_values(mapping, fe, quadrature,
+                                           update_values | update_gradients | update_quadrature_points | update_JxW_values);
     FEFaceValues<dim> fe_face_values(mapping, fe, face_quadrature, update_values | update_JxW_values);
 
-    const unsigned int n = fe.n_dofs_per_cell();
-    FullMatrix<double> cell_matrix(n, n);
-    Vector<double>     cell_rhs(n);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FullMatrix<double>                   cell_matrix(n, n);
+    Vector<double>                       cell_rhs(n);
     std::vector<types::global_dof_index> dof_indices(n);
     const FEValuesExtractors::Vector     u(0);
-    const double lambda = material.lame_lambda(), mu = material.shear_modulus();
+    const double                         lambda = material.lame_lambda(), mu = material.shear_modulus();
     std::vector<SymmetricTensor<2, dim>> eps(n);
     std::vector<double>                  div(n);
     std::vector<Tensor<1, dim>>          phi(n);
@@ -186,17 +185,17 @@ namespace nlmech
   template <int dim>
   LinearSolveStatistics LinearElasticity<dim>::solve(const LinearSolverSettings &settings)
   {
-    LinearSolveStatistics stats;
+    LinearSolveStatistics         stats;
     TrilinosWrappers::MPI::Vector solution(locally_owned, comm);
-    Timer timer(comm, true);
-    const double rhs_norm = rhs.l2_norm();
+    Timer                         timer(comm, true);
+    const double                  rhs_norm = rhs.l2_norm();
     if (settings.method == "direct")
       {
         AssertThrow(settings.direct_solver == "mumps" || settings.direct_solver == "klu",
                     ExcMessage("Unknown direct solver <" + settings.direct_solver + ">."));
-        SolverControl control(1, 0);
+        SolverControl                                  control(1, 0);
         TrilinosWrappers::SolverDirect::AdditionalData data(
-          false, settings.direct_solver == "mumps" ? "Amesos_Mumps" : "Amesos_Klu");
+            false, settings.direct_solver == "mumps" ? "Amesos_Mumps" : "Amesos_Klu");
         TrilinosWrappers::SolverDirect solver(control, data);
         solver.initialize(matrix);
         stats.setup_seconds = timer.wall_time();
@@ -267,9 +266,9 @@ namespace nlmech
                                                            const unsigned int component) const
   {
     const QGaussSimplex<dim - 1> face_quadrature(degree + 1);
-    FEFaceValues<dim>            fe_face_values(mapping, fe, face_quadrature, update_values | update_JxW_values);
-    std::vector<Vector<double>>  values(face_quadrature.size(), Vector<double>(dim));
-    double                       integral = 0, measure = 0;
+    FEFaceValues<dim> fe_face_values(mapping, fe, face_quadrature, update_values | update_JxW_values);
+    std::vector<Vector<double>> values(face_quadrature.size(), Vector<double>(dim));
+    double                      integral = 0, measure = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const unsigned int face : cell->face_indices())
@@ -301,8 +300,8 @@ namespace nlmech
   template <int dim>
   double LinearElasticity<dim>::max_vertex_error(const Function<dim> &exact) const
   {
-    double         worst = 0;
-    Vector<double> exact_value(dim);
+    double                               worst = 0;
+    Vector<double>                       exact_value(dim);
     std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -324,7 +323,7 @@ namespace nlmech
   template <int dim>
   double LinearElasticity<dim>::max_displacement() const
   {
-    double largest = 0;
+    double                               largest = 0;
     std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -344,8 +343,8 @@ namespace nlmech
   template <int dim>
   std::vector<std::pair<Point<dim>, Tensor<1, dim>>> LinearElasticity<dim>::vertex_displacements() const
   {
-    std::vector<double> local; // (vertex index, u_0..u_dim-1) records
-    std::vector<bool>   seen(tria.n_vertices(), false);
+    std::vector<double>                  local; // (vertex index, u_0..u_dim-1) records
+    std::vector<bool>                    seen(tria.n_vertices(), false);
     std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -360,12 +359,12 @@ namespace nlmech
                   local.push_back(ghosted_solution[dof_indices[fe.component_to_system_index(d, v)]]);
               }
         }
-    const auto gathered = Utilities::MPI::gather(comm, local, 0);
+    const auto                                         gathered = Utilities::MPI::gather(comm, local, 0);
     std::vector<std::pair<Point<dim>, Tensor<1, dim>>> result;
     if (Utilities::MPI::this_mpi_process(comm) != 0)
       return result;
-    const auto         &vertices = tria.get_vertices();
-    std::vector<bool>   filled(vertices.size(), false);
+    const auto                 &vertices = tria.get_vertices();
+    std::vector<bool>           filled(vertices.size(), false);
     std::vector<Tensor<1, dim>> u(vertices.size());
     for (const auto &records : gathered)
       for (std::size_t r = 0; r < records.size(); r += dim + 1)
@@ -382,13 +381,14 @@ namespace nlmech
   }
 
   template <int dim>
-  std::string LinearElasticity<dim>::write_vtu(const std::string &directory, const std::string &basename) const
+  std::string LinearElasticity<dim>::write_vtu(const std::string &directory,
+                                               const std::string &basename) const
   {
     DataOut<dim> data_out;
     data_out.attach_dof_handler(dof_handler);
-    const std::vector<std::string> names(dim, "displacement");
+    const std::vector<std::string>                                              names(dim, "displacement");
     const std::vector<DataComponentInterpretation::DataComponentInterpretation> interpretation(
-      dim, DataComponentInterpretation::component_is_part_of_vector);
+        dim, DataComponentInterpretation::component_is_part_of_vector);
     data_out.add_data_vector(ghosted_solution, names, DataOut<dim>::type_dof_data, interpretation);
 
     // Cell-wise von Mises stress at the centroid (Pa) and the MPI rank owning the cell.
@@ -397,10 +397,10 @@ namespace nlmech
       std::vector<Point<dim>> centre(1);
       for (unsigned int d = 0; d < dim; ++d)
         centre[0][d] = 1.0 / (dim + 1);
-      const Quadrature<dim> q(centre);
-      FEValues<dim>         fe_values(mapping, fe, q, update_gradients);
+      const Quadrature<dim>                    q(centre);
+      FEValues<dim>                            fe_values(mapping, fe, q, update_gradients);
       std::vector<std::vector<Tensor<1, dim>>> gradients(1, std::vector<Tensor<1, dim>>(dim));
-      const double lambda = material.lame_lambda(), mu = material.shear_modulus();
+      const double                             lambda = material.lame_lambda(), mu = material.shear_modulus();
       for (const auto &cell : dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
@@ -411,7 +411,7 @@ namespace nlmech
               for (unsigned int b = a; b < dim; ++b)
                 eps[a][b] = 0.5 * (gradients[0][a][b] + gradients[0][b][a]);
             SymmetricTensor<2, dim> sigma = lambda * trace(eps) * unit_symmetric_tensor<dim>() + 2 * mu * eps;
-            const auto dev = deviator(sigma);
+            const auto              dev   = deviator(sigma);
             von_mises(cell->active_cell_index()) = std::sqrt(1.5 * (dev * dev));
             rank(cell->active_cell_index())      = cell->subdomain_id();
           }
@@ -422,7 +422,7 @@ namespace nlmech
 
     const unsigned int this_rank = Utilities::MPI::this_mpi_process(comm);
     const unsigned int n_ranks   = Utilities::MPI::n_mpi_processes(comm);
-    auto piece = [&](unsigned int r) { return basename + "." + std::to_string(r) + ".vtu"; };
+    auto               piece = [&](unsigned int r) { return basename + "." + std::to_string(r) + ".vtu"; };
     {
       AtomicFile file((std::filesystem::path(directory) / piece(this_rank)).string());
       data_out.write_vtu(file.stream());

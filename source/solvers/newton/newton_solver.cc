@@ -17,7 +17,7 @@ namespace nlmech
       x[f.first] = f.second;
     AssertThrow(model.is_valid(x), dealii::ExcMessage("Newton: the initial state is not valid."));
 
-    std::vector<long> free_index(n, -1);
+    std::vector<long>        free_index(n, -1);
     std::vector<std::size_t> free_dofs;
     for (std::size_t i = 0; i < n; ++i)
       if (!model.is_fixed(i))
@@ -35,12 +35,12 @@ namespace nlmech
       return gf;
     };
 
-    NewtonResult result;
-    double       energy = model.energy(x);
-    Eigen::VectorXd g   = free_gradient(x);
-    const double    g0  = g.norm();
+    NewtonResult                                             result;
+    double                                                   energy = model.energy(x);
+    Eigen::VectorXd                                          g      = free_gradient(x);
+    const double                                             g0     = g.norm();
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
-    long analysed_nonzeros = -1;
+    long                                                     analysed_nonzeros = -1;
     cholesky.cholmod().print = 1; // errors only: "not positive definite" is handled by the shift below
 
     for (result.iterations = 0;; ++result.iterations)
@@ -50,7 +50,8 @@ namespace nlmech
         if (result.gradient_norm <= std::max(settings.absolute_tolerance, settings.relative_tolerance * g0))
           return result;
         AssertThrow(result.iterations < settings.max_iterations,
-                    dealii::ExcMessage("Newton did not converge in " + std::to_string(settings.max_iterations) +
+                    dealii::ExcMessage("Newton did not converge in " +
+                                       std::to_string(settings.max_iterations) +
                                        " iterations (gradient norm " + std::to_string(result.gradient_norm) +
                                        ", started at " + std::to_string(g0) + ")."));
 
@@ -95,15 +96,16 @@ namespace nlmech
                 if (dx_free.dot(g) < 0)
                   break;
               }
-            AssertThrow(attempt < 20, dealii::ExcMessage("Newton: the Hessian could not be made positive definite."));
+            AssertThrow(attempt < 20,
+                        dealii::ExcMessage("Newton: the Hessian could not be made positive definite."));
             shift = (shift == 0 ? 1e-8 * (diagonal_scale > 0 ? diagonal_scale : 1.0) : 10 * shift);
           }
 
         Eigen::VectorXd dx = Eigen::VectorXd::Zero(n);
         for (std::size_t k = 0; k < m; ++k)
           dx[free_dofs[k]] = dx_free[k];
-        double       alpha = std::min(1.0, 0.99 * model.max_safe_step(x, dx));
-        const double slope = g.dot(dx_free);
+        double       alpha    = std::min(1.0, 0.99 * model.max_safe_step(x, dx));
+        const double slope    = g.dot(dx_free);
         bool         accepted = false;
         for (unsigned int ls = 0; ls < settings.max_line_search; ++ls, alpha *= 0.5)
           {
@@ -111,9 +113,10 @@ namespace nlmech
             if (!model.is_valid(trial))
               continue;
             const double trial_energy = model.energy(trial);
-            AssertThrow(std::isfinite(trial_energy),
-                        dealii::ExcMessage("Newton: the energy is not finite along the step; the model may have no "
-                                           "minimum (missing boundary conditions?)."));
+            AssertThrow(
+                std::isfinite(trial_energy),
+                dealii::ExcMessage("Newton: the energy is not finite along the step; the model may have no "
+                                   "minimum (missing boundary conditions?)."));
             // Armijo, with a round-off allowance once the energy stagnates at machine precision.
             if (trial_energy <= energy + 1e-4 * alpha * slope + 1e-14 * std::abs(energy))
               {

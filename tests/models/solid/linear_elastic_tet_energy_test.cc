@@ -30,9 +30,9 @@ TEST(LinearElasticTetEnergy, DerivativesMatchFiniteDifferences)
   const RawSimplexMesh<3>    mesh = cantilever_mesh(0.1);
   const IsotropicMaterial    soft{1e3, 0.3, 1};
   const LinearElasticTetTerm term("elastic", LinearElasticTetElements(mesh.vertices, mesh.cells, soft));
-  std::mt19937                          random(7);
+  std::mt19937               random(7);
   std::uniform_real_distribution<double> uniform(-0.01, 0.01);
-  Eigen::VectorXd x(3 * mesh.vertices.size());
+  Eigen::VectorXd                        x(3 * mesh.vertices.size());
   for (auto &v : x)
     v = uniform(random);
   const DerivativeCheck check = check_derivatives(term, x, 1e-6);
@@ -43,10 +43,10 @@ TEST(LinearElasticTetEnergy, DerivativesMatchFiniteDifferences)
 
 TEST(LinearElasticTetEnergy, GravityTermDerivatives)
 {
-  Eigen::VectorXd force = Eigen::VectorXd::LinSpaced(9, -1.0, 2.0);
+  Eigen::VectorXd         force = Eigen::VectorXd::LinSpaced(9, -1.0, 2.0);
   const ConstantForceTerm term("gravity", force);
-  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(9, 0.3, 0.7);
-  const DerivativeCheck check = check_derivatives(term, x);
+  Eigen::VectorXd         x     = Eigen::VectorXd::LinSpaced(9, 0.3, 0.7);
+  const DerivativeCheck   check = check_derivatives(term, x);
   EXPECT_LT(check.gradient_error, 1e-8);
   EXPECT_LT(check.hessian_error, 1e-12);
 }
@@ -57,17 +57,17 @@ TEST(LinearElasticTetEnergy, ElementHessianEqualsDealIIStiffness)
   const std::vector<Point<3>> vertices = {{0.1, 0, 0}, {1.2, 0.1, 0}, {0.2, 0.9, 0.1}, {0.3, 0.2, 1.1}};
   const std::vector<std::vector<unsigned int>> cells = {{0, 1, 2, 3}};
   const LinearElasticTetTerm term("elastic", LinearElasticTetElements(vertices, cells, steel));
-  const auto ad = term.local_hessian(Eigen::VectorXd::Zero(12), 0);
+  const auto                 ad = term.local_hessian(Eigen::VectorXd::Zero(12), 0);
 
   parallel::shared::Triangulation<3> tria(MPI_COMM_SELF);
-  std::vector<CellData<3>>            cell_data(1);
+  std::vector<CellData<3>>           cell_data(1);
   cell_data[0].vertices = cells[0];
   tria.create_triangulation(vertices, cell_data, SubCellData());
   LinearElasticity<3> problem(tria, steel, 1);
   problem.setup();
   problem.assemble();
-  const auto &fe   = problem.dofs().get_fe();
-  const auto  cell = problem.dofs().begin_active();
+  const auto                          &fe   = problem.dofs().get_fe();
+  const auto                           cell = problem.dofs().begin_active();
   std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
   cell->get_dof_indices(dofs);
   double largest = 0, worst = 0;
@@ -77,8 +77,8 @@ TEST(LinearElasticTetEnergy, ElementHessianEqualsDealIIStiffness)
         const auto   ck = fe.system_to_component_index(k), cl = fe.system_to_component_index(l);
         const double dealii_entry = problem.stiffness().el(dofs[k], dofs[l]);
         const double ad_entry     = ad[(3 * ck.second + ck.first) * 12 + 3 * cl.second + cl.first];
-        largest = std::max(largest, std::abs(dealii_entry));
-        worst   = std::max(worst, std::abs(dealii_entry - ad_entry));
+        largest                   = std::max(largest, std::abs(dealii_entry));
+        worst                     = std::max(worst, std::abs(dealii_entry - ad_entry));
       }
   EXPECT_LT(worst / largest, 1e-12);
 }
@@ -90,17 +90,17 @@ TEST(NewtonSolver, ModelMatchesDealIIOnGravityCantilever)
   const double            h    = 0.05;
   const RawSimplexMesh<3> mesh = cantilever_mesh(h);
   const Tensor<1, 3>      gravity({0, 0, -9.81});
-  const Model             model = make_linear_elastic_tet_model(mesh, steel, gravity, {"clamped"});
-  Eigen::VectorXd         x     = Eigen::VectorXd::Zero(model.n_unknowns());
+  const Model             model  = make_linear_elastic_tet_model(mesh, steel, gravity, {"clamped"});
+  Eigen::VectorXd         x      = Eigen::VectorXd::Zero(model.n_unknowns());
   const NewtonResult      result = minimize_with_newton(model, x);
   // A quadratic energy: the first step solves it; further steps only refine round-off (cond(K) ~ 1e8).
   EXPECT_LE(result.iterations, 8u);
   EXPECT_EQ(result.factorizations, result.iterations);
 
   parallel::shared::Triangulation<3> tria(MPI_COMM_SELF);
-  MeshOptions                        options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", h, {}};
-  const MeshGroups                   groups = load_gmsh_mesh(options, tria);
-  LinearElasticity<3>                problem(tria, steel, 1);
+  MeshOptions         options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", h, {}};
+  const MeshGroups    groups = load_gmsh_mesh(options, tria);
+  LinearElasticity<3> problem(tria, steel, 1);
   problem.add_dirichlet(groups.boundary_id("clamped"));
   problem.set_gravity(gravity);
   problem.setup();
@@ -125,7 +125,7 @@ TEST(NewtonSolver, ModelMatchesDealIIOnGravityCantilever)
 TEST(NewtonSolver, DivergenceIsReportedClearly)
 {
   // A term with no minimum (linear in x, no stiffness): Newton cannot converge.
-  Model model(2);
+  Model           model(2);
   Eigen::VectorXd force(2);
   force << 1.0, 0.0;
   model.add_term(std::make_shared<ConstantForceTerm>("push", force));

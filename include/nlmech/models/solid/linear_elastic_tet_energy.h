@@ -17,11 +17,11 @@ namespace nlmech
   {
     static constexpr std::size_t n_dofs = 12;
 
-    LinearElasticTetElements(const std::vector<dealii::Point<3>>         &vertices,
+    LinearElasticTetElements(const std::vector<dealii::Point<3>>          &vertices,
                              const std::vector<std::vector<unsigned int>> &tets,
                              const IsotropicMaterial                      &material);
 
-    std::size_t                n_elements() const { return tets.size(); }
+    std::size_t                 n_elements() const { return tets.size(); }
     std::array<std::size_t, 12> dofs(std::size_t e) const;
 
     template <typename S>
@@ -36,7 +36,7 @@ namespace nlmech
             for (int a = 0; a < 4; ++a)
               grad[i][j] += u[3 * a + i] * dphi[a][j];
           }
-      S trace = grad[0][0] + grad[1][1] + grad[2][2];
+      S trace   = grad[0][0] + grad[1][1] + grad[2][2];
       S eps_eps = 0.0;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
@@ -58,8 +58,7 @@ namespace nlmech
 
   /// A Model of linear-elastic tetrahedra from a gmsh mesh: the elastic term, lumped masses, the
   /// weight rho g as a constant force term, and zero displacement on the named face groups.
-  Model make_linear_elastic_tet_model(const RawSimplexMesh<3>        &mesh,
-                                      const IsotropicMaterial        &material,
+  Model make_linear_elastic_tet_model(const RawSimplexMesh<3> &mesh, const IsotropicMaterial &material,
                                       const dealii::Tensor<1, 3>     &gravity,
                                       const std::vector<std::string> &clamped_groups);
 } // namespace nlmech

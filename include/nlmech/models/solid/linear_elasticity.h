@@ -23,9 +23,9 @@ namespace nlmech
 {
   struct IsotropicMaterial
   {
-    double youngs_modulus = 1;  // Pa
-    double poissons_ratio = 0;  // -
-    double density        = 0;  // kg/m^3
+    double youngs_modulus = 1; // Pa
+    double poissons_ratio = 0; // -
+    double density        = 0; // kg/m^3
 
     double lame_lambda() const;
     double shear_modulus() const;
@@ -35,17 +35,17 @@ namespace nlmech
 
   struct LinearSolverSettings
   {
-    std::string  method        = "direct"; // "direct" or "cg-amg"
-    std::string  direct_solver = "mumps";  // Amesos solver: "mumps" or "klu"
+    std::string  method             = "direct"; // "direct" or "cg-amg"
+    std::string  direct_solver      = "mumps";  // Amesos solver: "mumps" or "klu"
     double       relative_tolerance = 1e-10;
     unsigned int max_iterations     = 5000;
   };
 
   struct LinearSolveStatistics
   {
-    unsigned int iterations = 0; // 1 for a direct solve
-    double       setup_seconds = 0; // factorisation or AMG set-up
-    double       solve_seconds = 0; // total, including set-up
+    unsigned int iterations        = 0; // 1 for a direct solve
+    double       setup_seconds     = 0; // factorisation or AMG set-up
+    double       solve_seconds     = 0; // total, including set-up
     double       relative_residual = 0;
   };
 
@@ -54,8 +54,7 @@ namespace nlmech
   {
   public:
     LinearElasticity(const dealii::parallel::shared::Triangulation<dim> &tria,
-                     const IsotropicMaterial                           &material,
-                     unsigned int                                       degree);
+                     const IsotropicMaterial &material, unsigned int degree);
 
     /// Prescribes all displacement components on a boundary id (nullptr: clamped, u = 0).
     void add_dirichlet(unsigned int boundary_id, const dealii::Function<dim> *displacement = nullptr);
@@ -65,8 +64,8 @@ namespace nlmech
     void set_body_force(const dealii::Function<dim> *force_density);
     void set_gravity(const dealii::Tensor<1, dim> &gravity);
 
-    void setup();
-    void assemble();
+    void                  setup();
+    void                  assemble();
     LinearSolveStatistics solve(const LinearSolverSettings &settings);
 
     dealii::types::global_dof_index n_dofs() const { return dof_handler.n_dofs(); }
@@ -88,22 +87,22 @@ namespace nlmech
     /// Writes this rank's VTU piece, and (rank 0) the .pvtu record; returns the .pvtu file name.
     std::string write_vtu(const std::string &directory, const std::string &basename) const;
 
-    const dealii::TrilinosWrappers::MPI::Vector &solution() const { return ghosted_solution; }
-    const dealii::DoFHandler<dim>               &dofs() const { return dof_handler; }
+    const dealii::TrilinosWrappers::MPI::Vector  &solution() const { return ghosted_solution; }
+    const dealii::DoFHandler<dim>                &dofs() const { return dof_handler; }
     const dealii::TrilinosWrappers::SparseMatrix &stiffness() const { return matrix; }
 
   private:
-    MPI_Comm                                           comm;
+    MPI_Comm                                            comm;
     const dealii::parallel::shared::Triangulation<dim> &tria;
-    IsotropicMaterial                                  material;
-    unsigned int                                       degree;
-    dealii::FESystem<dim>                              fe;
-    dealii::MappingFE<dim>                             mapping;
-    dealii::DoFHandler<dim>                            dof_handler;
-    dealii::IndexSet                                   locally_owned, locally_relevant;
-    dealii::AffineConstraints<double>                  constraints;
-    dealii::TrilinosWrappers::SparseMatrix             matrix;
-    dealii::TrilinosWrappers::MPI::Vector              rhs, ghosted_solution;
+    IsotropicMaterial                                   material;
+    unsigned int                                        degree;
+    dealii::FESystem<dim>                               fe;
+    dealii::MappingFE<dim>                              mapping;
+    dealii::DoFHandler<dim>                             dof_handler;
+    dealii::IndexSet                                    locally_owned, locally_relevant;
+    dealii::AffineConstraints<double>                   constraints;
+    dealii::TrilinosWrappers::SparseMatrix              matrix;
+    dealii::TrilinosWrappers::MPI::Vector               rhs, ghosted_solution;
 
     std::map<unsigned int, const dealii::Function<dim> *> dirichlet;
     std::map<unsigned int, dealii::Tensor<1, dim>>        tractions;

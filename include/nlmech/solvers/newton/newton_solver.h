@@ -25,5 +25,6 @@ namespace nlmech
 
   /// Minimises the Model's energy from x (fixed unknowns are set first). Throws a clear error when
   /// it does not converge.
-  NewtonResult minimize_with_newton(const Model &model, Eigen::VectorXd &x, const NewtonSettings &settings = {});
+  NewtonResult minimize_with_newton(const Model &model, Eigen::VectorXd &x,
+                                    const NewtonSettings &settings = {});
 } // namespace nlmech

@@ -1,0 +1,133 @@
+#pragma once
+// Hyperelastic linear tetrahedra as element energies written once on the scalar type, so the same
+// code gives values (double), forces and tangents (Sacado Fad) and truncated Taylor series for the
+// Asymptotic Numerical Method (Fad over Sacado::Tay::Taylor). Unknowns: deformed vertex positions,
+// 3 per vertex (x, y, z interleaved). F = D_s D_m^-1 is constant per element.
+//  - compressible neo-Hookean (ANM paper eq. 3): W = mu/2 (J^(-2/3) I_c - 3) + kappa/2 (J - 1)^2
+//  - St.Venant-Kirchhoff: W = mu E:E + lambda/2 tr(E)^2, E = (F^T F - I)/2
+
+#include <nlmech/mesh/gmsh_mesh.h>
+#include <nlmech/models/energy_term.h>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace nlmech
+{
+  enum class HyperelasticLaw
+  {
+    neo_hookean,
+    saint_venant_kirchhoff
+  };
+
+  struct HyperelasticMaterial
+  {
+    HyperelasticLaw law            = HyperelasticLaw::neo_hookean;
+    double          youngs_modulus = 1; // Pa
+    double          poissons_ratio = 0; // -
+    double          density        = 0; // kg/m^3
+
+    double shear_modulus() const { return youngs_modulus / (2 * (1 + poissons_ratio)); }
+    double bulk_modulus() const { return youngs_modulus / (3 * (1 - 2 * poissons_ratio)); }
+    double lame_lambda() const
+    {
+      return youngs_modulus * poissons_ratio / ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
+    }
+    /// Throws a clear error for E <= 0 or nu outside (-1, 0.5).
+    void check() const;
+  };
+
+  struct HyperelasticTetElements
+  {
+    static constexpr std::size_t n_dofs = 12;
+
+    /// `rest` are the rest positions the elements are built on.
+    HyperelasticTetElements(const std::vector<dealii::Point<3>>          &rest,
+                            const std::vector<std::vector<unsigned int>> &tets,
+                            const HyperelasticMaterial                   &material);
+
+    std::size_t                 n_elements() const { return tets.size(); }
+    std::array<std::size_t, 12> dofs(std::size_t e) const;
+
+    /// Deformation gradient F = D_s D_m^-1 of element e from its 4 deformed vertex positions.
+    template <typename S>
+    void deformation_gradient(const std::array<S, 12> &x, std::size_t e, S (&F)[3][3]) const
+    {
+      const auto &Dinv = rest_shape_inverse[e];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          {
+            F[i][j] = 0.0;
+            for (int a = 0; a < 3; ++a)
+              F[i][j] += (x[3 * (a + 1) + i] - x[i]) * Dinv[a][j];
+          }
+    }
+
+    template <typename S>
+    static S determinant(const S (&F)[3][3])
+    {
+      return F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) -
+             F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
+             F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
+    }
+
+    template <typename S>
+    S energy(const std::array<S, 12> &x, std::size_t e) const
+    {
+      using std::pow;
+      S F[3][3];
+      deformation_gradient(x, e, F);
+      if (law == HyperelasticLaw::neo_hookean)
+        {
+          const S J  = determinant(F);
+          S       Ic = 0.0;
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+              Ic += F[i][j] * F[i][j];
+          return volume[e] *
+                 (0.5 * mu * (pow(J, -2.0 / 3.0) * Ic - 3.0) + 0.5 * kappa * (J - 1.0) * (J - 1.0));
+        }
+      S E[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          {
+            E[i][j] = (i == j ? -0.5 : 0.0);
+            for (int k = 0; k < 3; ++k)
+              E[i][j] += 0.5 * F[k][i] * F[k][j];
+          }
+      S EE = 0.0, trace = E[0][0] + E[1][1] + E[2][2];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          EE += E[i][j] * E[i][j];
+      return volume[e] * (mu * EE + 0.5 * lambda * trace * trace);
+    }
+
+    HyperelasticLaw                                   law;
+    double                                            mu, kappa, lambda;
+    std::vector<std::array<unsigned int, 4>>          tets;
+    std::vector<std::array<std::array<double, 3>, 3>> rest_shape_inverse; // D_m^-1
+    std::vector<double>                               volume;             // rest volume
+  };
+
+  extern template class ElementEnergyTerm<HyperelasticTetElements>;
+
+  /// The hyperelastic energy term, with the validity hooks: a state is valid when every element
+  /// has det F > 0, and a step may go at most to the first root of det F(x + t dx) in any element.
+  class HyperelasticTetTerm : public ElementEnergyTerm<HyperelasticTetElements>
+  {
+  public:
+    HyperelasticTetTerm(const std::vector<dealii::Point<3>>          &rest,
+                        const std::vector<std::vector<unsigned int>> &tets,
+                        const HyperelasticMaterial                   &material);
+
+    bool   is_valid(const Eigen::VectorXd &x) const override;
+    double max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const override;
+    /// Smallest det F over the elements.
+    double min_jacobian(const Eigen::VectorXd &x) const;
+  };
+
+  /// Smallest root t in (0, t_max] of the cubic c0 + c1 t + c2 t^2 + c3 t^3, or t_max if none.
+  double first_positive_root_of_cubic(const std::array<double, 4> &c, double t_max);
+} // namespace nlmech

@@ -1,0 +1,149 @@
+#include <nlmech/models/solid/hyperelastic_tet_energy.h>
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/tensor.h>
+
+#include <algorithm>
+
+namespace nlmech
+{
+  template class ElementEnergyTerm<HyperelasticTetElements>;
+
+  void HyperelasticMaterial::check() const
+  {
+    AssertThrow(youngs_modulus > 0, dealii::ExcMessage("Young's modulus must be positive; it is " +
+                                                       std::to_string(youngs_modulus) + " Pa."));
+    AssertThrow(poissons_ratio < 0.5 && poissons_ratio > -1,
+                dealii::ExcMessage("Poisson's ratio must lie in (-1, 0.5); it is " +
+                                   std::to_string(poissons_ratio) + "."));
+    AssertThrow(density >= 0, dealii::ExcMessage("The density must not be negative."));
+  }
+
+  HyperelasticTetElements::HyperelasticTetElements(const std::vector<dealii::Point<3>>          &rest,
+                                                   const std::vector<std::vector<unsigned int>> &cells,
+                                                   const HyperelasticMaterial                   &material)
+      : law(material.law)
+      , mu(material.shear_modulus())
+      , kappa(material.bulk_modulus())
+      , lambda(material.lame_lambda())
+  {
+    material.check();
+    for (const auto &c : cells)
+      {
+        AssertThrow(c.size() == 4, dealii::ExcMessage("Hyperelastic tetrahedra need 4 vertices per cell."));
+        dealii::Tensor<2, 3> Dm;
+        for (int a = 0; a < 3; ++a)
+          for (int d = 0; d < 3; ++d)
+            Dm[d][a] = rest[c[a + 1]][d] - rest[c[0]][d];
+        const double det = dealii::determinant(Dm);
+        AssertThrow(det > 0, dealii::ExcMessage("An element of the rest shape is inverted or degenerate."));
+        const dealii::Tensor<2, 3>           inverse = dealii::invert(Dm);
+        std::array<std::array<double, 3>, 3> Dinv;
+        for (int a = 0; a < 3; ++a)
+          for (int j = 0; j < 3; ++j)
+            Dinv[a][j] = inverse[a][j];
+        tets.push_back({c[0], c[1], c[2], c[3]});
+        rest_shape_inverse.push_back(Dinv);
+        volume.push_back(det / 6);
+      }
+  }
+
+  std::array<std::size_t, 12> HyperelasticTetElements::dofs(const std::size_t e) const
+  {
+    std::array<std::size_t, 12> d;
+    for (int a = 0; a < 4; ++a)
+      for (int i = 0; i < 3; ++i)
+        d[3 * a + i] = 3 * std::size_t(tets[e][a]) + i;
+    return d;
+  }
+
+  HyperelasticTetTerm::HyperelasticTetTerm(const std::vector<dealii::Point<3>>          &rest,
+                                           const std::vector<std::vector<unsigned int>> &tets,
+                                           const HyperelasticMaterial                   &material)
+      : ElementEnergyTerm<HyperelasticTetElements>(material.law == HyperelasticLaw::neo_hookean
+                                                       ? "neo-Hookean tetrahedra"
+                                                       : "St.Venant-Kirchhoff tetrahedra",
+                                                   HyperelasticTetElements(rest, tets, material))
+  {
+  }
+
+  double HyperelasticTetTerm::min_jacobian(const Eigen::VectorXd &x) const
+  {
+    const auto &el    = elements();
+    double      least = std::numeric_limits<double>::max();
+    for (std::size_t e = 0; e < el.n_elements(); ++e)
+      {
+        const auto             dofs = el.dofs(e);
+        std::array<double, 12> local;
+        for (int i = 0; i < 12; ++i)
+          local[i] = x[dofs[i]];
+        double F[3][3];
+        el.deformation_gradient(local, e, F);
+        least = std::min(least, HyperelasticTetElements::determinant(F));
+      }
+    return least;
+  }
+
+  bool HyperelasticTetTerm::is_valid(const Eigen::VectorXd &x) const
+  {
+    // St.Venant-Kirchhoff is defined for inverted elements too, but an inverted state is never a
+    // physical answer; both laws treat det F <= 0 as invalid.
+    return min_jacobian(x) > 0;
+  }
+
+  double first_positive_root_of_cubic(const std::array<double, 4> &c, const double t_max)
+  {
+    // Sample, then bisect the first sign change: robust for the tiny or vanishing leading terms
+    // that make closed-form cubic roots unstable.
+    auto      p       = [&](double t) { return c[0] + t * (c[1] + t * (c[2] + t * c[3])); };
+    const int samples = 64;
+    double    t0 = 0, p0 = p(0);
+    for (int s = 1; s <= samples; ++s)
+      {
+        const double t1 = t_max * s / samples, p1 = p(t1);
+        if ((p0 > 0) != (p1 > 0))
+          {
+            double lo = t0, hi = t1;
+            for (int it = 0; it < 60; ++it)
+              {
+                const double mid                     = 0.5 * (lo + hi);
+                ((p(mid) > 0) == (p0 > 0) ? lo : hi) = mid;
+              }
+            return lo;
+          }
+        t0 = t1, p0 = p1;
+      }
+    return t_max;
+  }
+
+  double HyperelasticTetTerm::max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const
+  {
+    // det F(t) = det(F + t dF) is a cubic in t per element: c0 = det F, c3 = det dF, and c1, c2
+    // from the mixed terms (evaluated exactly by sampling the cubic at t = -1, 1, 2).
+    const auto &el   = elements();
+    double      step = 1.0;
+    for (std::size_t e = 0; e < el.n_elements(); ++e)
+      {
+        const auto             dofs = el.dofs(e);
+        std::array<double, 12> local, delta;
+        for (int i = 0; i < 12; ++i)
+          local[i] = x[dofs[i]], delta[i] = dx[dofs[i]];
+        double F[3][3], dF[3][3];
+        el.deformation_gradient(local, e, F);
+        el.deformation_gradient(delta, e, dF);
+        auto det_at = [&](double t) {
+          double G[3][3];
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+              G[i][j] = F[i][j] + t * dF[i][j];
+          return HyperelasticTetElements::determinant(G);
+        };
+        const double p0 = det_at(0), pp = det_at(1), pm = det_at(-1), p2 = det_at(2);
+        const double c2 = 0.5 * (pp + pm) - p0;
+        const double c3 = (p2 - 3 * pp + 3 * p0 - pm) / 6.0; // third difference = 3! c3
+        const double c1 = pp - p0 - c2 - c3;
+        step            = std::min(step, first_positive_root_of_cubic({p0, c1, c2, c3}, step));
+      }
+    return step;
+  }
+} // namespace nlmech
