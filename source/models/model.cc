@@ -6,6 +6,13 @@
 
 namespace nlmech
 {
+  void EnergyTerm::add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &, unsigned int,
+                                                   Eigen::VectorXd &) const
+  {
+    AssertThrow(false, dealii::ExcMessage("The energy term <" + name() +
+                                          "> provides no Taylor series; the ANM cannot use it."));
+  }
+
   ConstantForceTerm::ConstantForceTerm(std::string term_name, Eigen::VectorXd force)
       : term_name(std::move(term_name))
       , force(std::move(force))
@@ -63,6 +70,66 @@ namespace nlmech
     Eigen::SparseMatrix<double> h(n, n);
     h.setFromTriplets(triplets.begin(), triplets.end());
     return h;
+  }
+
+  Eigen::VectorXd Model::gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,
+                                                     const unsigned int                  k) const
+  {
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+    for (const auto &t : energy_terms)
+      t->add_gradient_series_coefficient(path, k, out);
+    return out;
+  }
+
+  bool Model::has_series() const
+  {
+    return std::all_of(energy_terms.begin(), energy_terms.end(),
+                       [](const auto &t) { return t->has_series(); });
+  }
+
+  FreeDofMap::FreeDofMap(const Model &model)
+      : n(model.n_unknowns())
+      , index(model.n_unknowns(), -1)
+  {
+    for (std::size_t i = 0; i < n; ++i)
+      if (!model.is_fixed(i))
+        {
+          index[i] = free.size();
+          free.push_back(i);
+        }
+  }
+
+  Eigen::VectorXd FreeDofMap::restrict(const Eigen::VectorXd &full) const
+  {
+    Eigen::VectorXd out(free.size());
+    for (std::size_t k = 0; k < free.size(); ++k)
+      out[k] = full[free[k]];
+    return out;
+  }
+
+  Eigen::VectorXd FreeDofMap::expand(const Eigen::VectorXd &free_values) const
+  {
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+    for (std::size_t k = 0; k < free.size(); ++k)
+      out[free[k]] = free_values[k];
+    return out;
+  }
+
+  Eigen::SparseMatrix<double> FreeDofMap::restrict(const Eigen::SparseMatrix<double> &full) const
+  {
+    Triplets triplets;
+    triplets.reserve(full.nonZeros() + free.size());
+    // Explicit diagonal entries keep the pattern fixed when a solver adds a diagonal shift.
+    for (std::size_t k = 0; k < free.size(); ++k)
+      triplets.emplace_back(k, k, 0.0);
+    for (int col = 0; col < full.outerSize(); ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(full, col); it; ++it)
+        if (index[it.row()] >= 0 && index[it.col()] >= 0)
+          triplets.emplace_back(index[it.row()], index[it.col()], it.value());
+    Eigen::SparseMatrix<double> out(free.size(), free.size());
+    out.setFromTriplets(triplets.begin(), triplets.end());
+    out.makeCompressed();
+    return out;
   }
 
   bool Model::is_valid(const Eigen::VectorXd &x) const

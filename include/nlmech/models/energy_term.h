@@ -6,6 +6,7 @@
 
 #include <Eigen/Sparse>
 #include <Sacado.hpp>
+#include <Sacado_Tay_Taylor.hpp>
 
 #include <array>
 #include <cstddef>
@@ -28,6 +29,14 @@ namespace nlmech
     /// H += d2E/dx2, as (row, column, value) triplets (duplicates are summed).
     virtual void add_hessian(const Eigen::VectorXd &x, Triplets &h) const = 0;
 
+    /// Whether add_gradient_series_coefficient is available (needed by the ANM).
+    virtual bool has_series() const { return false; }
+    /// Adds coefficient k of the Taylor series of the gradient along the path
+    /// x(a) = sum_{j<k} a^j path[j] (the k-th coefficient of x taken as zero) to `out`. With a path
+    /// that is exact up to order k-1, this is the ANM's right-hand side f_nl of order k.
+    virtual void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path, unsigned int k,
+                                                 Eigen::VectorXd &out) const;
+
     /// False where the energy is undefined (inverted element, interpenetration).
     virtual bool is_valid(const Eigen::VectorXd &) const { return true; }
     /// Largest alpha in (0, 1] such that x + t dx stays valid for all t in [0, alpha).
@@ -46,6 +55,8 @@ namespace nlmech
     static constexpr std::size_t N = Element::n_dofs;
     using Gradient                 = Sacado::Fad::SFad<double, N>;
     using Hessian                  = Sacado::Fad::SFad<Gradient, N>;
+    /// Forward AD over truncated Taylor series: the gradient along a polynomial path.
+    using SeriesGradient = Sacado::Fad::SFad<Sacado::Tay::Taylor<double>, N>;
 
     ElementEnergyTerm(std::string term_name, Element element)
         : term_name(std::move(term_name))
@@ -95,7 +106,29 @@ namespace nlmech
         }
     }
 
-    /// Element energies' local gradient, for tests and hand-tuned kernels to compare against.
+    bool has_series() const override { return true; }
+
+    void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path, const unsigned int k,
+                                         Eigen::VectorXd &out) const override
+    {
+      for (std::size_t e = 0; e < element.n_elements(); ++e)
+        {
+          const auto                    dofs = element.dofs(e);
+          std::array<SeriesGradient, N> local;
+          for (std::size_t i = 0; i < N; ++i)
+            {
+              Sacado::Tay::Taylor<double> xi(static_cast<int>(k));
+              for (unsigned int j = 0; j < k && j < path.size(); ++j)
+                xi.fastAccessCoeff(j) = path[j][dofs[i]];
+              local[i] = SeriesGradient(N, i, xi);
+            }
+          const SeriesGradient energy = element.energy(local, e);
+          for (std::size_t i = 0; i < N; ++i)
+            out[dofs[i]] += energy.dx(i).coeff(k);
+        }
+    }
+
+    /// Element energies' local Hessian, for tests and hand-tuned kernels to compare against.
     std::array<double, N * N> local_hessian(const Eigen::VectorXd &x, std::size_t e) const
     {
       const auto             dofs = element.dofs(e);
@@ -134,6 +167,12 @@ namespace nlmech
     double      value(const Eigen::VectorXd &x) const override;
     void        add_gradient(const Eigen::VectorXd &x, Eigen::VectorXd &g) const override;
     void        add_hessian(const Eigen::VectorXd &, Triplets &) const override {}
+    bool        has_series() const override { return true; }
+    /// The gradient is constant: every coefficient of order k >= 1 is zero.
+    void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &, unsigned int,
+                                         Eigen::VectorXd &) const override
+    {
+    }
 
   private:
     std::string     term_name;

@@ -33,14 +33,35 @@ namespace nlmech
     double                      energy(const Eigen::VectorXd &x) const;
     Eigen::VectorXd             gradient(const Eigen::VectorXd &x) const;
     Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd &x) const;
-    bool                        is_valid(const Eigen::VectorXd &x) const;
-    double                      max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const;
+    /// Coefficient k of the gradient's Taylor series along sum_{j<k} a^j path[j] (for the ANM).
+    Eigen::VectorXd gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,
+                                                unsigned int                        k) const;
+    bool            has_series() const;
+    bool            is_valid(const Eigen::VectorXd &x) const;
+    double          max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const;
 
   private:
     std::size_t                                    n;
     std::vector<std::shared_ptr<const EnergyTerm>> energy_terms;
     Eigen::VectorXd                                mass;
     std::map<std::size_t, double>                  fixed_values;
+  };
+
+  /// The unknowns that are not fixed: restriction of vectors and matrices to them and back.
+  class FreeDofMap
+  {
+  public:
+    explicit FreeDofMap(const Model &model);
+    std::size_t n_free() const { return free.size(); }
+    Eigen::VectorXd restrict(const Eigen::VectorXd &full) const;
+    /// Free values into a full-length vector with zeros at the fixed unknowns.
+    Eigen::VectorXd expand(const Eigen::VectorXd &free_values) const;
+    Eigen::SparseMatrix<double> restrict(const Eigen::SparseMatrix<double> &full) const;
+
+  private:
+    std::size_t              n;
+    std::vector<std::size_t> free;
+    std::vector<long>        index; // position among the free unknowns, -1 if fixed
   };
 
   /// Largest relative differences between analytic and central finite-difference derivatives.

@@ -116,6 +116,59 @@ namespace nlmech
     return t_max;
   }
 
+  double HyperelasticTetTerm::first_inversion_along_series(const std::vector<Eigen::VectorXd> &path,
+                                                           const double                        a_max) const
+  {
+    using Series              = Sacado::Tay::Taylor<double>;
+    const auto         &el    = elements();
+    const int           n     = static_cast<int>(path.size()) - 1;
+    double              first = a_max;
+    std::vector<double> c(n + 1);
+    for (std::size_t e = 0; e < el.n_elements(); ++e)
+      {
+        const auto             dofs = el.dofs(e);
+        std::array<Series, 12> local;
+        for (int i = 0; i < 12; ++i)
+          {
+            local[i] = Series(n);
+            for (int k = 0; k <= n; ++k)
+              local[i].fastAccessCoeff(k) = path[k][dofs[i]];
+          }
+        Series F[3][3];
+        el.deformation_gradient(local, e, F);
+        const Series J = HyperelasticTetElements::determinant(F);
+        for (int k = 0; k <= n; ++k)
+          c[k] = J.coeff(k);
+        auto p = [&](double a) {
+          double v = 0;
+          for (int k = n; k >= 0; --k)
+            v = c[k] + a * v;
+          return v;
+        };
+        // Sample up to the current bound, then bisect the first sign change.
+        const int samples = 32;
+        double    a0 = 0, p0 = p(0);
+        for (int s = 1; s <= samples; ++s)
+          {
+            const double a1 = first * s / samples, p1 = p(a1);
+            if (p1 <= 0)
+              {
+                double lo = a0, hi = a1;
+                for (int it = 0; it < 50; ++it)
+                  {
+                    const double mid       = 0.5 * (lo + hi);
+                    (p(mid) > 0 ? lo : hi) = mid;
+                  }
+                first = lo;
+                break;
+              }
+            a0 = a1, p0 = p1;
+          }
+        (void)p0;
+      }
+    return first;
+  }
+
   double HyperelasticTetTerm::max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const
   {
     // det F(t) = det(F + t dF) is a cubic in t per element: c0 = det F, c3 = det dF, and c1, c2

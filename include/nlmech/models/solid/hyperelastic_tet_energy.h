@@ -124,6 +124,9 @@ namespace nlmech
 
     bool   is_valid(const Eigen::VectorXd &x) const override;
     double max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const override;
+    /// Smallest a in (0, a_max] where det F of some element vanishes along the truncated series
+    /// x(a) = sum_k a^k path[k] (det F(a) expanded by Taylor arithmetic), or a_max if none.
+    double first_inversion_along_series(const std::vector<Eigen::VectorXd> &path, double a_max) const;
     /// Smallest det F over the elements.
     double min_jacobian(const Eigen::VectorXd &x) const;
   };

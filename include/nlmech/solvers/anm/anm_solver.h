@@ -1,0 +1,76 @@
+#pragma once
+// The Asymptotic Numerical Method for static equilibrium, grad E(x) = lambda g (ANM paper, sections
+// 4 and 5.3). From a solution (x0, lambda0), (x, lambda) are expanded as power series in a path
+// parameter a up to order n; every order solves with the one factorisation of the tangent at the
+// series origin, the right-hand sides coming from Taylor-mode arithmetic on the energy terms
+// (Model::gradient_series_coefficient). The step ends where the series stops being reliable
+// (paper eqs. 19-20), or before any element would invert (first root of det F(a)); a few Newton
+// corrections follow; lambda = target is landed on exactly by root finding on lambda(a).
+
+#include <nlmech/models/model.h>
+#include <nlmech/models/solid/hyperelastic_tet_energy.h>
+
+#include <string>
+#include <vector>
+
+namespace nlmech
+{
+  struct AnmSettings
+  {
+    unsigned int order              = 20;   // truncation order n
+    double       series_tolerance   = 1e-6; // r of eq. (19)
+    double       residual_tolerance = 1e-9; // Newton corrections: |R_free| <= tol * |g_free|
+    unsigned int max_corrections    = 4;
+    unsigned int max_steps          = 200;
+    double       min_step           = 1e-12; // a step shorter than this counts as a collapse
+  };
+
+  struct AnmStepRecord
+  {
+    double       step_length   = 0; // a at the end of the step
+    double       series_radius = 0; // a_r of eq. (20)
+    double       lambda_begin = 0, lambda_end = 0;
+    unsigned int corrections          = 0;
+    double       residual             = 0; // |R_free| / |g_free| after the corrections
+    bool         limited_by_inversion = false;
+  };
+
+  struct AnmResult
+  {
+    bool                       completed = false;
+    double                     lambda    = 0;
+    std::string                stop_reason;
+    std::vector<AnmStepRecord> steps;
+    unsigned int               factorizations = 0, back_substitutions = 0;
+    double series_seconds = 0, factorization_seconds = 0, solve_seconds = 0, total_seconds = 0;
+  };
+
+  class AnmSolver
+  {
+  public:
+    /// `internal`: the energy terms and fixed unknowns; `load`: g (a full-length vector).
+    /// `inversion_guard`: if given, steps stop short of the first inversion of one of its elements.
+    AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings,
+              const HyperelasticTetTerm *inversion_guard = nullptr);
+
+    /// Follows the branch from (x, lambda_start) to lambda_target; x is updated. Never throws for a
+    /// branch that cannot be followed: the result says how far it got and why it stopped.
+    AnmResult solve(Eigen::VectorXd &x, double lambda_start = 0, double lambda_target = 1) const;
+
+  private:
+    const Model               &model;
+    Eigen::VectorXd            load;
+    AnmSettings                settings;
+    const HyperelasticTetTerm *guard;
+  };
+
+  /// Newton with line search at increasing load factors lambda = i / n_steps (the baseline).
+  struct LoadSteppingResult
+  {
+    unsigned int iterations = 0, factorizations = 0;
+    double       seconds = 0;
+  };
+  LoadSteppingResult solve_with_load_stepping(const Model &internal, const Eigen::VectorXd &load,
+                                              Eigen::VectorXd &x, unsigned int n_steps,
+                                              double relative_tolerance = 1e-9);
+} // namespace nlmech

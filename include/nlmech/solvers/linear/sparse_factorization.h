@@ -1,0 +1,31 @@
+#pragma once
+// A cached sparse factorisation of a symmetric matrix: CHOLMOD supernodal Cholesky when the matrix
+// is positive definite, UMFPACK LU otherwise (past a limit point). The symbolic analysis is reused
+// while the sparsity pattern does not change; factorisations, solves and their times are counted.
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Sparse>
+#include <Eigen/UmfPackSupport>
+
+namespace nlmech
+{
+  class SparseFactorization
+  {
+  public:
+    SparseFactorization();
+
+    /// Factorises A; throws a clear error if A is singular.
+    void            factorize(const Eigen::SparseMatrix<double> &A);
+    Eigen::VectorXd solve(const Eigen::VectorXd &b);
+    bool            positive_definite() const { return use_cholesky; }
+
+    unsigned int n_factorizations = 0, n_solves = 0;
+    double       factorization_seconds = 0, solve_seconds = 0;
+
+  private:
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
+    Eigen::UmfPackLU<Eigen::SparseMatrix<double>>            lu;
+    long                                                     cholesky_pattern = -1, lu_pattern = -1;
+    bool                                                     use_cholesky = true;
+  };
+} // namespace nlmech

@@ -1,0 +1,244 @@
+#include <nlmech/solvers/anm/anm_solver.h>
+#include <nlmech/solvers/linear/sparse_factorization.h>
+#include <nlmech/solvers/newton/newton_solver.h>
+
+#include <deal.II/base/exceptions.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace nlmech
+{
+  namespace
+  {
+    using Clock = std::chrono::steady_clock;
+    double seconds_since(Clock::time_point start)
+    {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    }
+
+    /// sum_k c[k] a^k
+    template <typename V>
+    V evaluate_series(const std::vector<V> &c, double a)
+    {
+      V value = c.back();
+      for (int k = static_cast<int>(c.size()) - 2; k >= 0; --k)
+        value = c[k] + a * value;
+      return value;
+    }
+
+    /// First a in (0, a_max] where lambda(a) crosses target, or a negative number if none.
+    double first_crossing(const std::vector<double> &lambda, double target, double a_max)
+    {
+      auto      f       = [&](double a) { return evaluate_series(lambda, a) - target; };
+      const int samples = 200;
+      double    a0 = 0, f0 = f(0);
+      if (f0 == 0)
+        return 0;
+      for (int s = 1; s <= samples; ++s)
+        {
+          const double a1 = a_max * s / samples, f1 = f(a1);
+          if ((f0 > 0) != (f1 > 0) || f1 == 0)
+            {
+              double lo = a0, hi = a1;
+              for (int it = 0; it < 100 && hi - lo > 1e-16 * hi; ++it)
+                {
+                  const double mid                     = 0.5 * (lo + hi);
+                  ((f(mid) > 0) == (f0 > 0) ? lo : hi) = mid;
+                }
+              return hi;
+            }
+          a0 = a1, f0 = f1;
+        }
+      return -1;
+    }
+  } // namespace
+
+  AnmSolver::AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings,
+                       const HyperelasticTetTerm *inversion_guard)
+      : model(internal)
+      , load(load)
+      , settings(settings)
+      , guard(inversion_guard)
+  {
+    AssertThrow(settings.order >= 2, dealii::ExcMessage("The ANM truncation order must be at least 2."));
+    AssertThrow(model.has_series(),
+                dealii::ExcMessage("Every energy term of an ANM model needs Taylor series."));
+  }
+
+  AnmResult AnmSolver::solve(Eigen::VectorXd &x, const double lambda_start, const double lambda_target) const
+  {
+    const auto            start = Clock::now();
+    const FreeDofMap      free(model);
+    const Eigen::VectorXd g      = free.restrict(load);
+    const double          g_norm = g.norm();
+    AssertThrow(g_norm > 0, dealii::ExcMessage("The ANM needs a non-zero load."));
+    for (const auto &f : model.fixed())
+      x[f.first] = f.second;
+
+    AnmResult           result;
+    SparseFactorization factorization;
+    double              lambda              = lambda_start;
+    const double        direction_of_target = lambda_target > lambda_start ? 1.0 : -1.0;
+    Eigen::VectorXd     previous_x1;
+    double              previous_lambda1 = 0, highest_lambda = lambda;
+
+    auto residual = [&](const Eigen::VectorXd &state, double lam) {
+      return Eigen::VectorXd(free.restrict(model.gradient(state)) - lam * g);
+    };
+    auto finish = [&](bool completed, const std::string &reason) {
+      result.completed             = completed;
+      result.lambda                = lambda;
+      result.stop_reason           = reason;
+      result.factorizations        = factorization.n_factorizations;
+      result.back_substitutions    = factorization.n_solves;
+      result.factorization_seconds = factorization.factorization_seconds;
+      result.solve_seconds         = factorization.solve_seconds;
+      result.total_seconds         = seconds_since(start);
+      return result;
+    };
+
+    for (unsigned int step = 0; step < settings.max_steps; ++step)
+      {
+        // The tangent at the series origin, factorised once for every order.
+        factorization.factorize(free.restrict(model.hessian(x)));
+        const Eigen::VectorXd xt      = factorization.solve(g);
+        double                lambda1 = 1.0 / std::sqrt(1.0 + xt.squaredNorm());
+        if (previous_x1.size() == 0)
+          lambda1 *= direction_of_target;
+        else if ((lambda1 * xt).dot(previous_x1) + lambda1 * previous_lambda1 < 0)
+          lambda1 = -lambda1; // keep going the same way along the branch
+        const Eigen::VectorXd x1 = lambda1 * xt;
+
+        const auto                   series_start = Clock::now();
+        std::vector<Eigen::VectorXd> path         = {x, free.expand(x1)};
+        std::vector<Eigen::VectorXd> free_path    = {free.restrict(x), x1};
+        std::vector<double>          lambdas      = {lambda, lambda1};
+        double                       solve_time   = 0;
+        for (unsigned int k = 2; k <= settings.order; ++k)
+          {
+            const Eigen::VectorXd f_nl = free.restrict(model.gradient_series_coefficient(path, k));
+            const auto            t0   = Clock::now();
+            const Eigen::VectorXd x_nl = factorization.solve(-f_nl);
+            solve_time += seconds_since(t0);
+            const double          lambda_k = -x_nl.dot(x1) / (xt.dot(x1) + lambda1); // eq. (12)
+            const Eigen::VectorXd xk       = lambda_k * xt + x_nl;                   // eq. (18)
+            free_path.push_back(xk);
+            path.push_back(free.expand(xk));
+            lambdas.push_back(lambda_k);
+          }
+        result.series_seconds += seconds_since(series_start) - solve_time;
+
+        AnmStepRecord record;
+        record.lambda_begin = lambda;
+        const double xn     = free_path.back().norm();
+        record.series_radius =
+            xn > 0 ? std::pow(settings.series_tolerance * x1.norm() / xn, 1.0 / (settings.order - 1)) : 1e30;
+        double a_max = record.series_radius;
+        if (guard)
+          {
+            const double inversion = guard->first_inversion_along_series(path, a_max);
+            if (inversion < a_max)
+              {
+                a_max                       = 0.9 * inversion;
+                record.limited_by_inversion = true;
+              }
+          }
+        const double landing = first_crossing(lambdas, lambda_target, a_max);
+        bool         final   = landing >= 0;
+        double       a       = final ? landing : a_max;
+
+        // Evaluate the series and correct; shorten the step if the corrections do not converge.
+        Eigen::VectorXd trial;
+        bool            converged = false;
+        for (int attempt = 0; attempt < 8 && !converged; ++attempt)
+          {
+            if (a < settings.min_step)
+              break;
+            trial               = evaluate_series(path, a);
+            double lambda_trial = evaluate_series(lambdas, a);
+            if (final)
+              lambda_trial = lambda_target;
+            record.corrections = 0;
+            for (;;)
+              {
+                const Eigen::VectorXd R = residual(trial, lambda_trial);
+                record.residual         = R.norm() / g_norm;
+                if (!std::isfinite(record.residual))
+                  break;
+                if (record.residual <= settings.residual_tolerance && (!guard || guard->is_valid(trial)))
+                  {
+                    converged = true;
+                    lambda    = lambda_trial;
+                    break;
+                  }
+                if (record.corrections == settings.max_corrections || (guard && !guard->is_valid(trial)))
+                  break;
+                factorization.factorize(free.restrict(model.hessian(trial)));
+                const Eigen::VectorXd dx = free.expand(factorization.solve(-R));
+                trial += std::min(1.0, 0.9 * model.max_safe_step(trial, dx)) * dx;
+                ++record.corrections;
+              }
+            if (!converged)
+              {
+                a *= 0.5;
+                final = false;
+              }
+          }
+        if (!converged)
+          {
+            std::ostringstream reason;
+            reason
+                << "the ANM step length collapsed (a < " << settings.min_step << ") at lambda = " << lambda
+                << ": no equilibrium could be followed further (a load beyond a limit point, or an element "
+                   "about to invert)";
+            return finish(false, reason.str());
+          }
+        x                  = trial;
+        record.step_length = a;
+        record.lambda_end  = lambda;
+        result.steps.push_back(record);
+        previous_x1      = x1;
+        previous_lambda1 = lambda1;
+
+        if (final)
+          return finish(true, "reached lambda = " + std::to_string(lambda_target));
+        highest_lambda =
+            direction_of_target > 0 ? std::max(highest_lambda, lambda) : std::min(highest_lambda, lambda);
+        if (direction_of_target * (highest_lambda - lambda) > 0.05 * std::abs(lambda_target - lambda_start))
+          {
+            std::ostringstream reason;
+            reason << "the load path turned back at lambda = " << highest_lambda
+                   << " (a limit point): there is no equilibrium at lambda = " << lambda_target
+                   << " on this branch";
+            return finish(false, reason.str());
+          }
+      }
+    return finish(false, "the ANM did not reach lambda = " + std::to_string(lambda_target) + " in " +
+                             std::to_string(settings.max_steps) + " steps");
+  }
+
+  LoadSteppingResult solve_with_load_stepping(const Model &internal, const Eigen::VectorXd &load,
+                                              Eigen::VectorXd &x, const unsigned int n_steps,
+                                              const double relative_tolerance)
+  {
+    const auto         start = Clock::now();
+    LoadSteppingResult result;
+    const FreeDofMap   free(internal);
+    const double       g_norm = free.restrict(load).norm();
+    for (unsigned int i = 1; i <= n_steps; ++i)
+      {
+        Model stepped = internal;
+        stepped.add_term(std::make_shared<ConstantForceTerm>("load", load * (double(i) / n_steps)));
+        NewtonSettings settings;
+        settings.relative_tolerance = 0;
+        settings.absolute_tolerance = relative_tolerance * g_norm;
+        const NewtonResult r        = minimize_with_newton(stepped, x, settings);
+        result.iterations += r.iterations;
+        result.factorizations += r.factorizations;
+      }
+    result.seconds = seconds_since(start);
+    return result;
+  }
+} // namespace nlmech

