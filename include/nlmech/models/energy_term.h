@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace nlmech
@@ -41,6 +42,20 @@ namespace nlmech
     virtual bool is_valid(const Eigen::VectorXd &) const { return true; }
     /// Largest alpha in (0, 1] such that x + t dx stays valid for all t in [0, alpha).
     virtual double max_safe_step(const Eigen::VectorXd &, const Eigen::VectorXd &) const { return 1.0; }
+  };
+
+  /// Whether an element type brings its own ANM series kernel
+  /// add_gradient_series_coefficient(path, k, e, out).
+  template <typename Element, typename = void>
+  struct has_series_kernel : std::false_type
+  {
+  };
+  template <typename Element>
+  struct has_series_kernel<
+      Element, std::void_t<decltype(std::declval<const Element &>().add_gradient_series_coefficient(
+                   std::declval<const std::vector<Eigen::VectorXd> &>(), 0u, std::size_t(0),
+                   std::declval<Eigen::VectorXd &>()))>> : std::true_type
+  {
   };
 
   /// An energy that is a sum over elements, each depending on N unknowns. `Element` provides
@@ -110,6 +125,18 @@ namespace nlmech
 
     void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path, const unsigned int k,
                                          Eigen::VectorXd &out) const override
+    {
+      if constexpr (has_series_kernel<Element>::value)
+        for (std::size_t e = 0; e < element.n_elements(); ++e)
+          element.add_gradient_series_coefficient(path, k, e, out);
+      else
+        add_gradient_series_coefficient_by_taylor_ad(path, k, out);
+    }
+
+    /// The generic path: forward AD over Sacado::Tay::Taylor on the element energy in x. Works
+    /// for every element; element kernels are checked against it.
+    void add_gradient_series_coefficient_by_taylor_ad(const std::vector<Eigen::VectorXd> &path,
+                                                      const unsigned int k, Eigen::VectorXd &out) const
     {
       for (std::size_t e = 0; e < element.n_elements(); ++e)
         {

@@ -57,6 +57,48 @@ namespace nlmech
     return d;
   }
 
+  void HyperelasticTetElements::add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,
+                                                                const unsigned int k, const std::size_t e,
+                                                                Eigen::VectorXd &out) const
+  {
+    using Series = TruncatedSeries<32>;
+    using Dual   = ForwardGradient<Series, 9>;
+    AssertThrow(k < Series::capacity, dealii::ExcMessage("The ANM order is limited to 31."));
+    const auto dofs = this->dofs(e);
+    Dual       F[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int l = 0; l < 3; ++l)
+        F[i][l] = Dual(Series::zero(k), 3 * i + l);
+    // F is linear in x: its coefficient j is F(path[j]) (coefficient k of x is left out).
+    for (unsigned int j = 0; j < k && j < path.size(); ++j)
+      {
+        std::array<double, 12> local;
+        for (int i = 0; i < 12; ++i)
+          local[i] = path[j][dofs[i]];
+        double Fj[3][3];
+        deformation_gradient(local, e, Fj);
+        for (int i = 0; i < 3; ++i)
+          for (int l = 0; l < 3; ++l)
+            F[i][l].v.coefficient(j) = Fj[i][l];
+      }
+    const Dual  W    = energy_density(F);
+    const auto &Dinv = rest_shape_inverse[e];
+    // dE/dx_{a,i} = V sum_l P_il Dinv[a-1][l] for a = 1..3; vertex 0 balances the others.
+    for (int i = 0; i < 3; ++i)
+      {
+        double balance = 0;
+        for (int a = 1; a < 4; ++a)
+          {
+            double f = 0;
+            for (int l = 0; l < 3; ++l)
+              f += W.dx[3 * i + l][k] * Dinv[a - 1][l];
+            out[dofs[3 * a + i]] += volume[e] * f;
+            balance += volume[e] * f;
+          }
+        out[dofs[i]] -= balance;
+      }
+  }
+
   HyperelasticTetTerm::HyperelasticTetTerm(const std::vector<dealii::Point<3>>          &rest,
                                            const std::vector<std::vector<unsigned int>> &tets,
                                            const HyperelasticMaterial                   &material)

@@ -167,7 +167,8 @@ namespace nlmech
                 record.residual         = R.norm() / g_norm;
                 if (!std::isfinite(record.residual))
                   break;
-                if (record.residual <= settings.residual_tolerance && (!guard || guard->is_valid(trial)))
+                const double tolerance = final ? settings.residual_tolerance : settings.path_tolerance;
+                if (record.residual <= tolerance && (!guard || guard->is_valid(trial)))
                   {
                     converged = true;
                     lambda    = lambda_trial;

@@ -6,6 +6,7 @@
 //  - compressible neo-Hookean (ANM paper eq. 3): W = mu/2 (J^(-2/3) I_c - 3) + kappa/2 (J - 1)^2
 //  - St.Venant-Kirchhoff: W = mu E:E + lambda/2 tr(E)^2, E = (F^T F - I)/2
 
+#include <nlmech/base/truncated_series.h>
 #include <nlmech/mesh/gmsh_mesh.h>
 #include <nlmech/models/energy_term.h>
 
@@ -73,12 +74,11 @@ namespace nlmech
              F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
     }
 
+    /// Strain energy density W(F) [J/m^3], written once for every scalar type.
     template <typename S>
-    S energy(const std::array<S, 12> &x, std::size_t e) const
+    S energy_density(const S (&F)[3][3]) const
     {
       using std::pow;
-      S F[3][3];
-      deformation_gradient(x, e, F);
       if (law == HyperelasticLaw::neo_hookean)
         {
           const S J  = determinant(F);
@@ -86,8 +86,7 @@ namespace nlmech
           for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
               Ic += F[i][j] * F[i][j];
-          return volume[e] *
-                 (0.5 * mu * (pow(J, -2.0 / 3.0) * Ic - 3.0) + 0.5 * kappa * (J - 1.0) * (J - 1.0));
+          return 0.5 * mu * (pow(J, -2.0 / 3.0) * Ic - 3.0) + 0.5 * kappa * (J - 1.0) * (J - 1.0);
         }
       S E[3][3];
       for (int i = 0; i < 3; ++i)
@@ -101,8 +100,22 @@ namespace nlmech
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
           EE += E[i][j] * E[i][j];
-      return volume[e] * (mu * EE + 0.5 * lambda * trace * trace);
+      return mu * EE + 0.5 * lambda * trace * trace;
     }
+
+    template <typename S>
+    S energy(const std::array<S, 12> &x, std::size_t e) const
+    {
+      S F[3][3];
+      deformation_gradient(x, e, F);
+      return volume[e] * energy_density(F);
+    }
+
+    /// Fast ANM kernel: coefficient k of the element's force series along sum_{j<k} a^j path[j],
+    /// from forward derivatives of energy_density over truncated series in F (9 inputs instead
+    /// of 12, no allocation). Added into `out`.
+    void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path, unsigned int k,
+                                         std::size_t e, Eigen::VectorXd &out) const;
 
     HyperelasticLaw                                   law;
     double                                            mu, kappa, lambda;

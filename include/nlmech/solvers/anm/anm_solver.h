@@ -19,7 +19,8 @@ namespace nlmech
   {
     unsigned int order              = 20;   // truncation order n
     double       series_tolerance   = 1e-6; // r of eq. (19)
-    double       residual_tolerance = 1e-9; // Newton corrections: |R_free| <= tol * |g_free|
+    double       residual_tolerance = 1e-9; // at lambda = target: |R_free| <= tol * |g_free|
+    double       path_tolerance     = 1e-6; // on the way there: corrections only above this
     unsigned int max_corrections    = 4;
     unsigned int max_steps          = 200;
     double       min_step           = 1e-12; // a step shorter than this counts as a collapse
