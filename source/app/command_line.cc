@@ -125,6 +125,9 @@ namespace nlmech
           context.summary.add_string("scene", run.scene_name);
           context.summary.add_string("parameter_file", file);
           run.scene->run(context);
+          context.summary.add_string("status", context.partial_reason.empty() ? "complete" : "partial");
+          if (!context.partial_reason.empty())
+            context.summary.add_string("partial_reason", context.partial_reason);
 
           if (context.is_root())
             {
@@ -139,6 +142,13 @@ namespace nlmech
               write_file_atomically(output.file("summary.json"), context.summary.to_string() + "\n");
             }
           output.commit();
+          if (!context.partial_reason.empty())
+            {
+              if (context.is_root())
+                std::cerr << "nlmech: error: " << context.partial_reason << "; partial results in "
+                          << output.final_path() << "/" << std::endl;
+              return 1;
+            }
           context.pcout << "nlmech: results in " << output.final_path() << "/" << std::endl;
         }
       catch (...)

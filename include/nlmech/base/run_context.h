@@ -26,6 +26,9 @@ namespace nlmech
     std::ostringstream         timing_text;
     dealii::TimerOutput        timer;
     JsonObject                 summary;
+    /// Set by a scene whose solve stopped early but left consistent partial results: the results are
+    /// kept (marked "status": "partial" in summary.json) and the run still exits with an error.
+    std::string partial_reason;
 
     bool is_root() const;
   };

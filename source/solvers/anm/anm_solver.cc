@@ -90,6 +90,7 @@ namespace nlmech
     auto finish = [&](bool completed, const std::string &reason) {
       result.completed             = completed;
       result.lambda                = lambda;
+      result.extreme_lambda        = highest_lambda;
       result.stop_reason           = reason;
       result.factorizations        = factorization.n_factorizations;
       result.back_substitutions    = factorization.n_solves;
@@ -108,7 +109,7 @@ namespace nlmech
         if (previous_x1.size() == 0)
           lambda1 *= direction_of_target;
         else if ((lambda1 * xt).dot(previous_x1) + lambda1 * previous_lambda1 < 0)
-          lambda1 = -lambda1; // keep going the same way along the branch
+          lambda1 = -lambda1; // keep going the way the previous series was heading at its end
         const Eigen::VectorXd x1 = lambda1 * xt;
 
         const auto                   series_start = Clock::now();
@@ -177,8 +178,9 @@ namespace nlmech
                 if (record.corrections == settings.max_corrections || (guard && !guard->is_valid(trial)))
                   break;
                 factorization.factorize(free.restrict(model.hessian(trial)));
-                const Eigen::VectorXd dx = free.expand(factorization.solve(-R));
-                trial += std::min(1.0, 0.9 * model.max_safe_step(trial, dx)) * dx;
+                const Eigen::VectorXd dx   = free.expand(factorization.solve(-R));
+                const double          safe = model.max_safe_step(trial, dx); // 1 when the full step is safe
+                trial += (safe < 1.0 ? 0.9 * safe : 1.0) * dx;
                 ++record.corrections;
               }
             if (!converged)
@@ -200,13 +202,25 @@ namespace nlmech
         record.step_length = a;
         record.lambda_end  = lambda;
         result.steps.push_back(record);
-        previous_x1      = x1;
-        previous_lambda1 = lambda1;
+        // The previous series' direction at its end point: d/da of (x(a), lambda(a)) at a.
+        previous_x1      = Eigen::VectorXd::Zero(x1.size());
+        previous_lambda1 = 0;
+        for (unsigned int k = 1; k < free_path.size(); ++k)
+          {
+            const double weight = k * std::pow(a, k - 1.0);
+            previous_x1 += weight * free_path[k];
+            previous_lambda1 += weight * lambdas[k];
+          }
 
         if (final)
           return finish(true, "reached lambda = " + std::to_string(lambda_target));
-        highest_lambda =
-            direction_of_target > 0 ? std::max(highest_lambda, lambda) : std::min(highest_lambda, lambda);
+        // The extreme load factor along the whole step: the series may pass a limit point mid-step.
+        for (int sample = 1; sample <= 1000; ++sample)
+          {
+            const double l = evaluate_series(lambdas, a * sample / 1000.0);
+            highest_lambda =
+                direction_of_target > 0 ? std::max(highest_lambda, l) : std::min(highest_lambda, l);
+          }
         if (direction_of_target * (highest_lambda - lambda) > 0.05 * std::abs(lambda_target - lambda_start))
           {
             std::ostringstream reason;

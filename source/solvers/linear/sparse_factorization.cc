@@ -16,7 +16,7 @@ namespace nlmech
 
   SparseFactorization::SparseFactorization()
   {
-    cholesky.cholmod().print = 1; // "not positive definite" is handled by the LU fallback
+    cholesky.cholmod().print = 0; // "not positive definite" is expected and handled by the LU fallback
   }
 
   void SparseFactorization::factorize(const Eigen::SparseMatrix<double> &A)
@@ -32,12 +32,14 @@ namespace nlmech
     use_cholesky = cholesky.info() == Eigen::Success;
     if (!use_cholesky)
       {
-        if (A.nonZeros() != lu_pattern)
+        lu_matrix = A;
+        lu_matrix.makeCompressed();
+        if (lu_matrix.nonZeros() != lu_pattern)
           {
-            lu.analyzePattern(A);
-            lu_pattern = A.nonZeros();
+            lu.analyzePattern(lu_matrix);
+            lu_pattern = lu_matrix.nonZeros();
           }
-        lu.factorize(A);
+        lu.factorize(lu_matrix);
         AssertThrow(lu.info() == Eigen::Success,
                     dealii::ExcMessage("The tangent matrix is singular: the structure is not held against "
                                        "rigid motion, or it sits exactly at a bifurcation."));

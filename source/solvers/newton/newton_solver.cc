@@ -104,7 +104,8 @@ namespace nlmech
         Eigen::VectorXd dx = Eigen::VectorXd::Zero(n);
         for (std::size_t k = 0; k < m; ++k)
           dx[free_dofs[k]] = dx_free[k];
-        double       alpha    = std::min(1.0, 0.99 * model.max_safe_step(x, dx));
+        const double safe     = model.max_safe_step(x, dx); // 1 when the full step is safe
+        double       alpha    = safe < 1.0 ? 0.9 * safe : 1.0;
         const double slope    = g.dot(dx_free);
         bool         accepted = false;
         for (unsigned int ls = 0; ls < settings.max_line_search; ++ls, alpha *= 0.5)

@@ -55,3 +55,29 @@ TEST(AnmSolver, AgreesWithNewtonOnLargeDeflection)
   EXPECT_LT((anm - newton).lpNorm<Eigen::Infinity>() / deflection, 1e-8);
   EXPECT_GE(result.steps.size(), 1u);
 }
+
+TEST(AnmSolver, LimitPointOfStVenantKirchhoffCompression)
+{
+  // Uniaxial compression of a St.Venant-Kirchhoff block: the nominal stress E a (a^2 - 1) / 2 has
+  // its extreme -E / (3 sqrt 3) at a = 1/sqrt 3. A dead load twice as large has no equilibrium: the
+  // ANM must pass the limit point, report it at that load, and stop without reaching lambda = 1.
+  MeshOptions             options{std::string(NLMECH_SOURCE_DIR) + "/meshes/block.geo", 0.5, {}};
+  const RawSimplexMesh<3> mesh = read_simplex_mesh<3>(options, 3);
+  HyperelasticMaterial    material;
+  material.law            = HyperelasticLaw::saint_venant_kirchhoff;
+  material.youngs_modulus = 1e6;
+  material.poissons_ratio = 0.3;
+  HyperelasticBoundaryConditions conditions;
+  conditions.rollers      = {{"x0", 0}, {"y0", 1}, {"z0", 2}};
+  const double      limit = material.youngs_modulus / (3 * std::sqrt(3.0));
+  HyperelasticLoads loads;
+  loads.tractions                   = {{"x1", Tensor<1, 3>({-2 * limit, 0, 0})}};
+  const HyperelasticProblem problem = make_hyperelastic_problem(mesh, material, conditions, loads);
+  Eigen::VectorXd           x       = problem.rest_positions;
+  const AnmResult           result =
+      AnmSolver(problem.internal, problem.load, AnmSettings(), problem.elastic.get()).solve(x);
+  EXPECT_FALSE(result.completed);
+  EXPECT_NE(result.stop_reason.find("limit point"), std::string::npos) << result.stop_reason;
+  EXPECT_NEAR(result.extreme_lambda * 2 * limit / limit, 1.0, 1e-4);
+  EXPECT_TRUE(x.allFinite());
+}

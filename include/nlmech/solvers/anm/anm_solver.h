@@ -38,8 +38,9 @@ namespace nlmech
 
   struct AnmResult
   {
-    bool                       completed = false;
-    double                     lambda    = 0;
+    bool                       completed      = false;
+    double                     lambda         = 0;
+    double                     extreme_lambda = 0; // largest lambda met along the path (a limit load)
     std::string                stop_reason;
     std::vector<AnmStepRecord> steps;
     unsigned int               factorizations = 0, back_substitutions = 0;

@@ -25,7 +25,8 @@ namespace nlmech
   private:
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
     Eigen::UmfPackLU<Eigen::SparseMatrix<double>>            lu;
-    long                                                     cholesky_pattern = -1, lu_pattern = -1;
-    bool                                                     use_cholesky = true;
+    Eigen::SparseMatrix<double> lu_matrix; // UMFPACK's solve reads the matrix: it must outlive it
+    long                        cholesky_pattern = -1, lu_pattern = -1;
+    bool                        use_cholesky = true;
   };
 } // namespace nlmech

@@ -1,0 +1,21 @@
+#pragma once
+// VTU output of per-vertex vector fields on a gmsh simplex mesh (rest configuration), through a
+// deal.II Triangulation and DataOut, written atomically. Used by the Model-based solvers, whose
+// unknowns live on the mesh vertices.
+
+#include <nlmech/mesh/gmsh_mesh.h>
+
+#include <Eigen/Core>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace nlmech
+{
+  /// `fields`: (name, vector with 3 values per vertex). Also writes the cell-wise `cell_fields`.
+  void write_vertex_fields_vtu(const RawSimplexMesh<3>                                    &mesh,
+                               const std::vector<std::pair<std::string, Eigen::VectorXd>> &fields,
+                               const std::vector<std::pair<std::string, Eigen::VectorXd>> &cell_fields,
+                               const std::string                                          &path);
+} // namespace nlmech

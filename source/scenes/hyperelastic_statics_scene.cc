@@ -1,0 +1,245 @@
+// Scene "hyperelastic-statics": forward static equilibrium of a neo-Hookean or St.Venant-Kirchhoff
+// solid on a gmsh tetrahedral mesh, by the Asymptotic Numerical Method and/or Newton with load
+// stepping, side by side on the same Model.
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
+#include <nlmech/base/atomic_output.h>
+#include <nlmech/base/run_context.h>
+#include <nlmech/base/scene.h>
+#include <nlmech/mesh/vertex_field_output.h>
+#include <nlmech/models/solid/hyperelastic_model.h>
+#include <nlmech/scenes/elastic_statics_parameters.h>
+#include <nlmech/solvers/anm/anm_solver.h>
+
+#include <filesystem>
+#include <sstream>
+
+namespace nlmech
+{
+  using namespace dealii;
+
+  namespace
+  {
+    class HyperelasticStaticsScene : public Scene
+    {
+    public:
+      static void declare_parameters(ParameterHandler &prm)
+      {
+        MeshParameters::declare_parameters(prm, NLMECH_SOURCE_DIR "/meshes/cantilever.geo", 0.05);
+        prm.enter_subsection("Material");
+        prm.declare_entry(
+            "Law", "neo-Hookean", Patterns::Selection("neo-Hookean|St.Venant-Kirchhoff"),
+            "neo-Hookean: W = mu/2 (J^(-2/3) I_c - 3) + kappa/2 (J - 1)^2; St.Venant-Kirchhoff: "
+            "W = mu E:E + lambda/2 tr(E)^2.");
+        prm.declare_entry("Young's modulus", "1e5", Patterns::Double(), "Young's modulus E [Pa]; positive.");
+        prm.declare_entry("Poisson's ratio", "0.4", Patterns::Double(),
+                          "Poisson's ratio nu [-]; in (-1, 0.5).");
+        prm.declare_entry("Density", "1100", Patterns::Double(0), "Mass density rho [kg/m^3].");
+        prm.leave_subsection();
+        prm.enter_subsection("Boundary conditions");
+        prm.declare_entry("Clamped groups", "clamped", Patterns::Anything(),
+                          "Comma-separated face groups held at their rest position.");
+        prm.declare_entry("Roller groups", "", Patterns::Anything(),
+                          "Face groups with one fixed component, as `group: x|y|z; ...`.");
+        prm.leave_subsection();
+        prm.enter_subsection("Loads");
+        prm.declare_entry("Gravity", "0, 0, -9.81", Patterns::Anything(),
+                          "Gravitational acceleration [m/s^2].");
+        prm.declare_entry("Tractions", "", Patterns::Anything(),
+                          "Nominal tractions per rest area, `group: t_x, t_y, t_z; ...` [Pa].");
+        prm.declare_entry(
+            "Point loads", "", Patterns::Anything(),
+            "Forces at the vertices nearest to given points, `x, y, z: f_x, f_y, f_z; ...` [m: N].");
+        prm.leave_subsection();
+        prm.enter_subsection("Solver");
+        prm.declare_entry(
+            "Method", "anm", Patterns::Selection("anm|newton|both"),
+            "anm: Asymptotic Numerical Method; newton: Newton with line search and load stepping; "
+            "both: run the two on the same model and compare.");
+        prm.declare_entry("ANM order", "20", Patterns::Integer(2, 31),
+                          "Truncation order n of the series [-].");
+        prm.declare_entry("Series tolerance", "1e-6", Patterns::Double(0),
+                          "r of the step-length rule a_r = (r |x_1| / |x_n|)^(1/(n-1)) [-].");
+        prm.declare_entry("Residual tolerance", "1e-9", Patterns::Double(0),
+                          "Final equilibrium: |residual| <= tol |load| on the free unknowns [-].");
+        prm.declare_entry("Path tolerance", "1e-6", Patterns::Double(0),
+                          "ANM corrections between steps only above this relative residual [-].");
+        prm.declare_entry("Newton load steps", "10", Patterns::Integer(1), "Load increments for Newton [-].");
+        prm.leave_subsection();
+      }
+
+      explicit HyperelasticStaticsScene(ParameterHandler &prm)
+      {
+        mesh.parse_parameters(prm);
+        prm.enter_subsection("Material");
+        material.law            = prm.get("Law") == "neo-Hookean" ? HyperelasticLaw::neo_hookean
+                                                                  : HyperelasticLaw::saint_venant_kirchhoff;
+        material.youngs_modulus = prm.get_double("Young's modulus");
+        material.poissons_ratio = prm.get_double("Poisson's ratio");
+        material.density        = prm.get_double("Density");
+        prm.leave_subsection();
+        material.check();
+        prm.enter_subsection("Boundary conditions");
+        for (const auto &g : Utilities::split_string_list(prm.get("Clamped groups"), ','))
+          if (!g.empty())
+            conditions.clamped.push_back(g);
+        for (const auto &item : Utilities::split_string_list(prm.get("Roller groups"), ';'))
+          {
+            if (item.empty())
+              continue;
+            const auto parts = Utilities::split_string_list(item, ':');
+            AssertThrow(parts.size() == 2 && (parts[1] == "x" || parts[1] == "y" || parts[1] == "z"),
+                        ExcMessage("Roller groups must read `group: x|y|z; ...`; <" + item + "> does not."));
+            conditions.rollers.emplace_back(parts[0], parts[1] == "x" ? 0u : parts[1] == "y" ? 1u : 2u);
+          }
+        prm.leave_subsection();
+        prm.enter_subsection("Loads");
+        loads.gravity = parse_vector<3>(prm.get("Gravity"), "Gravity");
+        for (const auto &item : Utilities::split_string_list(prm.get("Tractions"), ';'))
+          if (!item.empty())
+            {
+              const auto parts = Utilities::split_string_list(item, ':');
+              AssertThrow(parts.size() == 2, ExcMessage("Tractions must read `group: t_x, t_y, t_z; ...`."));
+              loads.tractions.emplace_back(parts[0], parse_vector<3>(parts[1], "Tractions"));
+            }
+        for (const auto &item : Utilities::split_string_list(prm.get("Point loads"), ';'))
+          if (!item.empty())
+            {
+              const auto parts = Utilities::split_string_list(item, ':');
+              AssertThrow(parts.size() == 2,
+                          ExcMessage("Point loads must read `x, y, z: f_x, f_y, f_z; ...`."));
+              loads.point_loads.emplace_back(Point<3>(parse_vector<3>(parts[0], "Point loads")),
+                                             parse_vector<3>(parts[1], "Point loads"));
+            }
+        prm.leave_subsection();
+        prm.enter_subsection("Solver");
+        method                 = prm.get("Method");
+        anm.order              = prm.get_integer("ANM order");
+        anm.series_tolerance   = prm.get_double("Series tolerance");
+        anm.residual_tolerance = prm.get_double("Residual tolerance");
+        anm.path_tolerance     = prm.get_double("Path tolerance");
+        newton_steps           = prm.get_integer("Newton load steps");
+        prm.leave_subsection();
+        AssertThrow(anm.residual_tolerance > 0 && anm.series_tolerance > 0 && anm.series_tolerance < 1,
+                    ExcMessage("The ANM tolerances must be positive (and the series tolerance below 1)."));
+      }
+
+      void validate() const override
+      {
+        AssertThrow(std::filesystem::exists(mesh.file),
+                    ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
+      }
+
+      void run(RunContext &context) override
+      {
+        RawSimplexMesh<3> raw;
+        {
+          TimerOutput::Scope t(context.timer, "mesh (gmsh + checks)");
+          raw = read_simplex_mesh<3>(mesh.options(mesh.element_size), 3);
+          check_simplex_mesh(raw, 3);
+        }
+        const HyperelasticProblem problem = make_hyperelastic_problem(raw, material, conditions, loads);
+        context.pcout << "hyperelastic statics: " << raw.vertices.size() << " vertices, " << raw.cells.size()
+                      << " tetrahedra, " << FreeDofMap(problem.internal).n_free() << " free unknowns"
+                      << std::endl;
+        context.summary.add_number("n_vertices", raw.vertices.size());
+        context.summary.add_number("n_tetrahedra", raw.cells.size());
+        context.summary.add_figure("total_load", problem.load.norm(), "N");
+
+        std::vector<std::pair<std::string, Eigen::VectorXd>> fields;
+        Eigen::VectorXd                                      x_anm, x_newton;
+        double                                               scale = 0;
+        if (method == "anm" || method == "both")
+          {
+            TimerOutput::Scope t(context.timer, "ANM");
+            x_anm = problem.rest_positions;
+            const AnmResult result =
+                AnmSolver(problem.internal, problem.load, anm, problem.elastic.get()).solve(x_anm);
+            JsonObject s;
+            s.add_bool("completed", result.completed);
+            s.add_number("lambda_reached", result.lambda);
+            s.add_number("largest_lambda_on_path", result.extreme_lambda);
+            s.add_number("steps", result.steps.size());
+            s.add_number("factorizations", result.factorizations);
+            s.add_number("back_substitutions", result.back_substitutions);
+            s.add_figure("series_time", result.series_seconds, "s");
+            s.add_figure("factorization_time", result.factorization_seconds, "s");
+            s.add_figure("back_substitution_time", result.solve_seconds, "s");
+            s.add_figure("wall_time", result.total_seconds, "s");
+            s.add_figure("max_displacement", (x_anm - problem.rest_positions).lpNorm<Eigen::Infinity>(), "m");
+            s.add_figure("min_det_F", problem.elastic->min_jacobian(x_anm), "1");
+            context.summary.add_object("anm", s);
+            std::ostringstream csv;
+            csv << "step,lambda_begin,lambda_end,step_length,series_radius,corrections,relative_residual,"
+                   "limited_by_inversion\n";
+            for (std::size_t i = 0; i < result.steps.size(); ++i)
+              {
+                const auto &r = result.steps[i];
+                csv << i << "," << json_number(r.lambda_begin) << "," << json_number(r.lambda_end) << ","
+                    << json_number(r.step_length) << "," << json_number(r.series_radius) << ","
+                    << r.corrections << "," << json_number(r.residual) << "," << r.limited_by_inversion
+                    << "\n";
+              }
+            if (context.is_root())
+              write_file_atomically(context.output.file("anm_steps.csv"), csv.str());
+            context.pcout << "ANM: " << (result.completed ? "reached" : "stopped at")
+                          << " lambda = " << result.lambda << " in " << result.steps.size() << " steps, "
+                          << result.factorizations << " factorizations, " << result.total_seconds << " s"
+                          << std::endl;
+            fields.emplace_back("displacement_anm", x_anm - problem.rest_positions);
+            scale = std::max(scale, (x_anm - problem.rest_positions).lpNorm<Eigen::Infinity>());
+            if (!result.completed)
+              context.partial_reason = "ANM: " + result.stop_reason;
+          }
+        if ((method == "newton" || method == "both") && context.partial_reason.empty())
+          {
+            TimerOutput::Scope t(context.timer, "Newton with load stepping");
+            x_newton                        = problem.rest_positions;
+            const LoadSteppingResult result = solve_with_load_stepping(
+                problem.internal, problem.load, x_newton, newton_steps, anm.residual_tolerance);
+            JsonObject s;
+            s.add_number("load_steps", newton_steps);
+            s.add_number("iterations", result.iterations);
+            s.add_number("factorizations", result.factorizations);
+            s.add_figure("wall_time", result.seconds, "s");
+            s.add_figure("max_displacement", (x_newton - problem.rest_positions).lpNorm<Eigen::Infinity>(),
+                         "m");
+            context.summary.add_object("newton", s);
+            context.pcout << "Newton: " << result.iterations << " iterations in " << newton_steps
+                          << " load steps, " << result.seconds << " s" << std::endl;
+            fields.emplace_back("displacement_newton", x_newton - problem.rest_positions);
+            scale = std::max(scale, (x_newton - problem.rest_positions).lpNorm<Eigen::Infinity>());
+          }
+        if (x_anm.size() && x_newton.size())
+          context.summary.add_figure("anm_newton_difference_relative",
+                                     (x_anm - x_newton).lpNorm<Eigen::Infinity>() / scale, "1");
+        if (context.is_root())
+          {
+            TimerOutput::Scope t(context.timer, "output (VTU)");
+            write_vertex_fields_vtu(raw, fields, {}, context.output.file("solution.vtu"));
+          }
+      }
+
+    private:
+      MeshParameters                 mesh;
+      HyperelasticMaterial           material;
+      HyperelasticBoundaryConditions conditions;
+      HyperelasticLoads              loads;
+      std::string                    method;
+      AnmSettings                    anm;
+      unsigned int                   newton_steps = 10;
+    };
+  } // namespace
+
+  NLMECH_REGISTER_SCENE(hyperelastic_statics,
+                        (SceneInfo{
+                            "hyperelastic-statics",
+                            "Neo-Hookean / St.Venant-Kirchhoff static equilibrium on a gmsh mesh by the "
+                            "Asymptotic Numerical Method and/or Newton with load stepping.",
+                            &HyperelasticStaticsScene::declare_parameters,
+                            [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
+                              return std::make_unique<HyperelasticStaticsScene>(prm);
+                            }}))
+} // namespace nlmech
