@@ -99,6 +99,18 @@ namespace nlmech
         }
   }
 
+  FreeDofMap::FreeDofMap(const std::size_t n_unknowns, const std::map<std::size_t, double> &fixed)
+      : n(n_unknowns)
+      , index(n_unknowns, -1)
+  {
+    for (std::size_t i = 0; i < n; ++i)
+      if (fixed.count(i) == 0)
+        {
+          index[i] = free.size();
+          free.push_back(i);
+        }
+  }
+
   Eigen::VectorXd FreeDofMap::restrict(const Eigen::VectorXd &full) const
   {
     Eigen::VectorXd out(free.size());

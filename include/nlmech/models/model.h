@@ -52,6 +52,7 @@ namespace nlmech
   {
   public:
     explicit FreeDofMap(const Model &model);
+    FreeDofMap(std::size_t n_unknowns, const std::map<std::size_t, double> &fixed);
     std::size_t n_free() const { return free.size(); }
     Eigen::VectorXd restrict(const Eigen::VectorXd &full) const;
     /// Free values into a full-length vector with zeros at the fixed unknowns.

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace nlmech
@@ -55,26 +56,36 @@ namespace nlmech
     }
   } // namespace
 
-  AnmSolver::AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings,
-                       const HyperelasticTetTerm *inversion_guard)
-      : model(internal)
+  AnmSolver::AnmSolver(const EquilibriumSystem &system, const Eigen::VectorXd &load,
+                       const AnmSettings &settings)
+      : system(system)
       , load(load)
       , settings(settings)
-      , guard(inversion_guard)
   {
     AssertThrow(settings.order >= 2, dealii::ExcMessage("The ANM truncation order must be at least 2."));
-    AssertThrow(model.has_series(),
+  }
+
+  AnmSolver::AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings,
+                       const HyperelasticTetTerm *inversion_guard)
+      : owned(std::make_shared<ModelEquilibrium>(internal, inversion_guard))
+      , system(*owned)
+      , load(load)
+      , settings(settings)
+  {
+    AssertThrow(settings.order >= 2, dealii::ExcMessage("The ANM truncation order must be at least 2."));
+    AssertThrow(internal.has_series(),
                 dealii::ExcMessage("Every energy term of an ANM model needs Taylor series."));
   }
 
   AnmResult AnmSolver::solve(Eigen::VectorXd &x, const double lambda_start, const double lambda_target) const
   {
     const auto            start = Clock::now();
-    const FreeDofMap      free(model);
-    const Eigen::VectorXd g      = free.restrict(load);
-    const double          g_norm = g.norm();
+    const FreeDofMap      free(system.n_unknowns(), system.fixed());
+    const bool            symmetric = system.symmetric_tangent();
+    const Eigen::VectorXd g         = free.restrict(load);
+    const double          g_norm    = g.norm();
     AssertThrow(g_norm > 0, dealii::ExcMessage("The ANM needs a non-zero load."));
-    for (const auto &f : model.fixed())
+    for (const auto &f : system.fixed())
       x[f.first] = f.second;
 
     AnmResult           result;
@@ -85,7 +96,7 @@ namespace nlmech
     double              previous_lambda1 = 0, highest_lambda = lambda;
 
     auto residual = [&](const Eigen::VectorXd &state, double lam) {
-      return Eigen::VectorXd(free.restrict(model.gradient(state)) - lam * g);
+      return Eigen::VectorXd(free.restrict(system.internal_force(state)) - lam * g);
     };
     auto finish = [&](bool completed, const std::string &reason) {
       result.completed             = completed;
@@ -103,7 +114,7 @@ namespace nlmech
     for (unsigned int step = 0; step < settings.max_steps; ++step)
       {
         // The tangent at the series origin, factorised once for every order.
-        factorization.factorize(free.restrict(model.hessian(x)));
+        factorization.factorize(free.restrict(system.tangent(x)), symmetric);
         const Eigen::VectorXd xt      = factorization.solve(g);
         double                lambda1 = 1.0 / std::sqrt(1.0 + xt.squaredNorm());
         if (previous_x1.size() == 0)
@@ -119,7 +130,7 @@ namespace nlmech
         double                       solve_time   = 0;
         for (unsigned int k = 2; k <= settings.order; ++k)
           {
-            const Eigen::VectorXd f_nl = free.restrict(model.gradient_series_coefficient(path, k));
+            const Eigen::VectorXd f_nl = free.restrict(system.internal_force_series_coefficient(path, k));
             const auto            t0   = Clock::now();
             const Eigen::VectorXd x_nl = factorization.solve(-f_nl);
             solve_time += seconds_since(t0);
@@ -137,15 +148,14 @@ namespace nlmech
         record.series_radius =
             xn > 0 ? std::pow(settings.series_tolerance * x1.norm() / xn, 1.0 / (settings.order - 1)) : 1e30;
         double a_max = record.series_radius;
-        if (guard)
-          {
-            const double inversion = guard->first_inversion_along_series(path, a_max);
-            if (inversion < a_max)
-              {
-                a_max                       = 0.9 * inversion;
-                record.limited_by_inversion = true;
-              }
-          }
+        {
+          const double inversion = system.first_invalid_along_series(path, a_max);
+          if (inversion < a_max)
+            {
+              a_max                       = 0.9 * inversion;
+              record.limited_by_inversion = true;
+            }
+        }
         const double landing = first_crossing(lambdas, lambda_target, a_max);
         bool         final   = landing >= 0;
         double       a       = final ? landing : a_max;
@@ -161,7 +171,8 @@ namespace nlmech
             double lambda_trial = evaluate_series(lambdas, a);
             if (final)
               lambda_trial = lambda_target;
-            record.corrections = 0;
+            record.corrections       = 0;
+            double previous_residual = std::numeric_limits<double>::max();
             for (;;)
               {
                 const Eigen::VectorXd R = residual(trial, lambda_trial);
@@ -169,17 +180,23 @@ namespace nlmech
                 if (!std::isfinite(record.residual))
                   break;
                 const double tolerance = final ? settings.residual_tolerance : settings.path_tolerance;
-                if (record.residual <= tolerance && (!guard || guard->is_valid(trial)))
+                // Round-off floor: a Newton correction that no longer halves a residual already below
+                // the path tolerance has reached what double precision allows for this stiffness.
+                const bool at_round_off = record.corrections > 0 &&
+                                          record.residual > 0.5 * previous_residual &&
+                                          record.residual <= settings.path_tolerance;
+                previous_residual = record.residual;
+                if ((record.residual <= tolerance || at_round_off) && system.is_valid(trial))
                   {
                     converged = true;
                     lambda    = lambda_trial;
                     break;
                   }
-                if (record.corrections == settings.max_corrections || (guard && !guard->is_valid(trial)))
+                if (record.corrections == settings.max_corrections || !system.is_valid(trial))
                   break;
-                factorization.factorize(free.restrict(model.hessian(trial)));
+                factorization.factorize(free.restrict(system.tangent(trial)), symmetric);
                 const Eigen::VectorXd dx   = free.expand(factorization.solve(-R));
-                const double          safe = model.max_safe_step(trial, dx); // 1 when the full step is safe
+                const double          safe = system.max_safe_step(trial, dx); // 1 when the full step is safe
                 trial += (safe < 1.0 ? 0.9 * safe : 1.0) * dx;
                 ++record.corrections;
               }
@@ -254,6 +271,70 @@ namespace nlmech
         result.factorizations += r.factorizations;
       }
     result.seconds = seconds_since(start);
+    return result;
+  }
+} // namespace nlmech
+
+namespace nlmech
+{
+  LoadSteppingResult solve_equilibrium_with_newton(const EquilibriumSystem &system,
+                                                   const Eigen::VectorXd &load, Eigen::VectorXd &q,
+                                                   const unsigned int n_steps,
+                                                   const double       relative_tolerance,
+                                                   const unsigned int max_iterations)
+  {
+    const auto            start = Clock::now();
+    LoadSteppingResult    result;
+    const FreeDofMap      free(system.n_unknowns(), system.fixed());
+    const Eigen::VectorXd g = free.restrict(load);
+    SparseFactorization   factorization;
+    for (const auto &f : system.fixed())
+      q[f.first] = f.second;
+    for (unsigned int step = 1; step <= n_steps; ++step)
+      {
+        const double lambda   = double(step) / n_steps;
+        auto         residual = [&](const Eigen::VectorXd &state) {
+          return Eigen::VectorXd(free.restrict(system.internal_force(state)) - lambda * g);
+        };
+        Eigen::VectorXd R        = residual(q);
+        double          previous = std::numeric_limits<double>::max();
+        for (unsigned int it = 0;; ++it)
+          {
+            // Converged, or stagnating at the round-off floor well below the requested accuracy.
+            if (R.norm() <= relative_tolerance * g.norm() ||
+                (it > 0 && R.norm() > 0.5 * previous && R.norm() <= 1e-6 * g.norm()))
+              break;
+            previous = R.norm();
+            AssertThrow(it < max_iterations,
+                        dealii::ExcMessage("Newton did not converge at load factor " +
+                                           std::to_string(lambda) + " (relative residual " +
+                                           std::to_string(R.norm() / g.norm()) + ")."));
+            factorization.factorize(free.restrict(system.tangent(q)), system.symmetric_tangent());
+            const Eigen::VectorXd dq       = free.expand(factorization.solve(-R));
+            const double          safe     = system.max_safe_step(q, dq);
+            double                alpha    = safe < 1.0 ? 0.9 * safe : 1.0;
+            bool                  accepted = false;
+            for (int ls = 0; ls < 40; ++ls, alpha *= 0.5)
+              {
+                const Eigen::VectorXd trial = q + alpha * dq;
+                if (!system.is_valid(trial))
+                  continue;
+                const Eigen::VectorXd R_trial = residual(trial);
+                if (R_trial.allFinite() && R_trial.norm() < (1 - 1e-4 * alpha) * R.norm())
+                  {
+                    q = trial, R = R_trial, accepted = true;
+                    break;
+                  }
+              }
+            AssertThrow(accepted,
+                        dealii::ExcMessage("Newton: the line search found no decrease of the residual at "
+                                           "load factor " +
+                                           std::to_string(lambda) + "."));
+            ++result.iterations;
+          }
+      }
+    result.factorizations = factorization.n_factorizations;
+    result.seconds        = seconds_since(start);
     return result;
   }
 } // namespace nlmech

@@ -19,17 +19,21 @@ namespace nlmech
     cholesky.cholmod().print = 0; // "not positive definite" is expected and handled by the LU fallback
   }
 
-  void SparseFactorization::factorize(const Eigen::SparseMatrix<double> &A)
+  void SparseFactorization::factorize(const Eigen::SparseMatrix<double> &A, const bool symmetric)
   {
     const auto start = std::chrono::steady_clock::now();
     ++n_factorizations;
-    if (A.nonZeros() != cholesky_pattern)
+    use_cholesky = false;
+    if (symmetric)
       {
-        cholesky.analyzePattern(A);
-        cholesky_pattern = A.nonZeros();
+        if (A.nonZeros() != cholesky_pattern)
+          {
+            cholesky.analyzePattern(A);
+            cholesky_pattern = A.nonZeros();
+          }
+        cholesky.factorize(A);
+        use_cholesky = cholesky.info() == Eigen::Success;
       }
-    cholesky.factorize(A);
-    use_cholesky = cholesky.info() == Eigen::Success;
     if (!use_cholesky)
       {
         lu_matrix = A;

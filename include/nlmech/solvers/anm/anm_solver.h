@@ -9,7 +9,9 @@
 
 #include <nlmech/models/model.h>
 #include <nlmech/models/solid/hyperelastic_tet_energy.h>
+#include <nlmech/solvers/anm/equilibrium_system.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,11 +49,20 @@ namespace nlmech
     double series_seconds = 0, factorization_seconds = 0, solve_seconds = 0, total_seconds = 0;
   };
 
+  /// Newton with line search at increasing load factors lambda = i / n_steps (the baseline).
+  struct LoadSteppingResult
+  {
+    unsigned int iterations = 0, factorizations = 0;
+    double       seconds = 0;
+  };
+
   class AnmSolver
   {
   public:
-    /// `internal`: the energy terms and fixed unknowns; `load`: g (a full-length vector).
-    /// `inversion_guard`: if given, steps stop short of the first inversion of one of its elements.
+    /// `system`: r(q) and its tangent; `load`: g (a full-length vector).
+    AnmSolver(const EquilibriumSystem &system, const Eigen::VectorXd &load, const AnmSettings &settings);
+    /// Forward statics of a Model; `inversion_guard`: if given, steps stop short of the first
+    /// inversion of one of its elements.
     AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings,
               const HyperelasticTetTerm *inversion_guard = nullptr);
 
@@ -60,18 +71,18 @@ namespace nlmech
     AnmResult solve(Eigen::VectorXd &x, double lambda_start = 0, double lambda_target = 1) const;
 
   private:
-    const Model               &model;
-    Eigen::VectorXd            load;
-    AnmSettings                settings;
-    const HyperelasticTetTerm *guard;
+    std::shared_ptr<const EquilibriumSystem> owned;
+    const EquilibriumSystem                 &system;
+    Eigen::VectorXd                          load;
+    AnmSettings                              settings;
   };
 
-  /// Newton with line search at increasing load factors lambda = i / n_steps (the baseline).
-  struct LoadSteppingResult
-  {
-    unsigned int iterations = 0, factorizations = 0;
-    double       seconds = 0;
-  };
+  /// Newton with backtracking on |R| for r(q) = g, load stepped (works for non-symmetric tangents).
+  LoadSteppingResult solve_equilibrium_with_newton(const EquilibriumSystem &system,
+                                                   const Eigen::VectorXd &load, Eigen::VectorXd &q,
+                                                   unsigned int n_steps, double relative_tolerance = 1e-9,
+                                                   unsigned int max_iterations = 50);
+
   LoadSteppingResult solve_with_load_stepping(const Model &internal, const Eigen::VectorXd &load,
                                               Eigen::VectorXd &x, unsigned int n_steps,
                                               double relative_tolerance = 1e-9);

@@ -14,8 +14,8 @@ namespace nlmech
   public:
     SparseFactorization();
 
-    /// Factorises A; throws a clear error if A is singular.
-    void            factorize(const Eigen::SparseMatrix<double> &A);
+    /// Factorises A (Cholesky tried first only when `symmetric`); throws if A is singular.
+    void            factorize(const Eigen::SparseMatrix<double> &A, bool symmetric = true);
     Eigen::VectorXd solve(const Eigen::VectorXd &b);
     bool            positive_definite() const { return use_cholesky; }
 

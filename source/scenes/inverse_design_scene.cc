@@ -1,0 +1,296 @@
+// Scene "inverse-design": the rest shape X of a neo-Hookean (or St.Venant-Kirchhoff) object that
+// deforms into the given target shape x under its loads (ANM paper, section 4), by the ANM and/or
+// Newton, with the forward check built in: the forward solve from X under the same loads and the
+// largest distance to the target relative to the bounding-box diagonal.
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
+#include <nlmech/base/atomic_output.h>
+#include <nlmech/base/run_context.h>
+#include <nlmech/base/scene.h>
+#include <nlmech/mesh/vertex_field_output.h>
+#include <nlmech/models/solid/hyperelastic_model.h>
+#include <nlmech/models/solid/inverse_hyperelastic.h>
+#include <nlmech/scenes/elastic_statics_parameters.h>
+#include <nlmech/solvers/anm/anm_solver.h>
+#include <nlmech/solvers/linear/sparse_factorization.h>
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+namespace nlmech
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /// The rest shape as a gmsh 2.2 ASCII mesh with the physical groups of the target.
+    std::string rest_shape_msh(const RawSimplexMesh<3> &mesh, const Eigen::VectorXd &X)
+    {
+      std::ostringstream out;
+      out.precision(17);
+      out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n"
+          << mesh.groups.boundary_ids.size() + mesh.groups.material_ids.size() << "\n";
+      for (const auto &g : mesh.groups.boundary_ids)
+        out << "2 " << g.second << " \"" << g.first << "\"\n";
+      for (const auto &g : mesh.groups.material_ids)
+        out << "3 " << g.second << " \"" << g.first << "\"\n";
+      out << "$EndPhysicalNames\n$Nodes\n" << mesh.vertices.size() << "\n";
+      for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+        out << v + 1 << " " << X[3 * v] << " " << X[3 * v + 1] << " " << X[3 * v + 2] << "\n";
+      out << "$EndNodes\n$Elements\n" << mesh.boundary_faces.size() + mesh.cells.size() << "\n";
+      std::size_t id = 1;
+      for (std::size_t f = 0; f < mesh.boundary_faces.size(); ++f, ++id)
+        out << id << " 2 2 " << mesh.boundary_face_id[f] << " " << mesh.boundary_face_id[f] << " "
+            << mesh.boundary_faces[f][0] + 1 << " " << mesh.boundary_faces[f][1] + 1 << " "
+            << mesh.boundary_faces[f][2] + 1 << "\n";
+      for (std::size_t c = 0; c < mesh.cells.size(); ++c, ++id)
+        out << id << " 4 2 " << mesh.cell_material[c] << " " << mesh.cell_material[c] << " "
+            << mesh.cells[c][0] + 1 << " " << mesh.cells[c][1] + 1 << " " << mesh.cells[c][2] + 1 << " "
+            << mesh.cells[c][3] + 1 << "\n";
+      out << "$EndElements\n";
+      return out.str();
+    }
+
+    class InverseDesignScene : public Scene
+    {
+    public:
+      static void declare_parameters(ParameterHandler &prm)
+      {
+        MeshParameters::declare_parameters(prm, NLMECH_SOURCE_DIR "/meshes/cantilever.geo", 0.05);
+        prm.enter_subsection("Material");
+        prm.declare_entry("Law", "neo-Hookean", Patterns::Selection("neo-Hookean|St.Venant-Kirchhoff"),
+                          "Material law of the fabricated object.");
+        prm.declare_entry("Young's modulus", "1e5", Patterns::Double(), "Young's modulus E [Pa]; positive.");
+        prm.declare_entry("Poisson's ratio", "0.45", Patterns::Double(),
+                          "Poisson's ratio nu [-]; in (-1, 0.5).");
+        prm.declare_entry("Density", "1100", Patterns::Double(0), "Mass density rho [kg/m^3].");
+        prm.leave_subsection();
+        prm.enter_subsection("Supports");
+        prm.declare_entry(
+            "Clamped groups", "clamped", Patterns::Anything(),
+            "Face groups attached to the support: their rest position is their target position.");
+        prm.leave_subsection();
+        prm.enter_subsection("Loads");
+        prm.declare_entry("Gravity", "0, 0, -9.81", Patterns::Anything(),
+                          "Gravitational acceleration [m/s^2]; the weight is that of the target shape.");
+        prm.declare_entry(
+            "Point loads", "", Patterns::Anything(),
+            "Forces at the target vertices nearest to given points, `x, y, z: f_x, f_y, f_z; ...` "
+            "[m: N].");
+        prm.leave_subsection();
+        prm.enter_subsection("Solver");
+        prm.declare_entry(
+            "Method", "anm", Patterns::Selection("anm|newton|both"),
+            "anm: Asymptotic Numerical Method from X = x; newton: Newton with line search on the "
+            "residual, load stepped; both: the two side by side.");
+        prm.declare_entry("ANM order", "20", Patterns::Integer(2, 31), "Truncation order n [-].");
+        prm.declare_entry("Series tolerance", "1e-6", Patterns::Double(0), "r of eqs. (19)-(20) [-].");
+        prm.declare_entry("Residual tolerance", "1e-9", Patterns::Double(0),
+                          "|residual| <= tol |load| at the end [-].");
+        prm.declare_entry("Newton load steps", "5", Patterns::Integer(1), "Load increments for Newton [-].");
+        prm.leave_subsection();
+      }
+
+      explicit InverseDesignScene(ParameterHandler &prm)
+      {
+        mesh.parse_parameters(prm);
+        prm.enter_subsection("Material");
+        material.law            = prm.get("Law") == "neo-Hookean" ? HyperelasticLaw::neo_hookean
+                                                                  : HyperelasticLaw::saint_venant_kirchhoff;
+        material.youngs_modulus = prm.get_double("Young's modulus");
+        material.poissons_ratio = prm.get_double("Poisson's ratio");
+        material.density        = prm.get_double("Density");
+        prm.leave_subsection();
+        material.check();
+        prm.enter_subsection("Supports");
+        for (const auto &g : Utilities::split_string_list(prm.get("Clamped groups"), ','))
+          if (!g.empty())
+            supports.push_back(g);
+        prm.leave_subsection();
+        AssertThrow(!supports.empty(),
+                    ExcMessage("Inverse design needs at least one clamped (support) group."));
+        prm.enter_subsection("Loads");
+        loads.gravity = parse_vector<3>(prm.get("Gravity"), "Gravity");
+        for (const auto &item : Utilities::split_string_list(prm.get("Point loads"), ';'))
+          if (!item.empty())
+            {
+              const auto parts = Utilities::split_string_list(item, ':');
+              AssertThrow(parts.size() == 2,
+                          ExcMessage("Point loads must read `x, y, z: f_x, f_y, f_z; ...`."));
+              loads.point_loads.emplace_back(Point<3>(parse_vector<3>(parts[0], "Point loads")),
+                                             parse_vector<3>(parts[1], "Point loads"));
+            }
+        prm.leave_subsection();
+        prm.enter_subsection("Solver");
+        method                 = prm.get("Method");
+        anm.order              = prm.get_integer("ANM order");
+        anm.series_tolerance   = prm.get_double("Series tolerance");
+        anm.residual_tolerance = prm.get_double("Residual tolerance");
+        newton_steps           = prm.get_integer("Newton load steps");
+        prm.leave_subsection();
+      }
+
+      void validate() const override
+      {
+        AssertThrow(std::filesystem::exists(mesh.file),
+                    ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
+      }
+
+      void run(RunContext &context) override
+      {
+        RawSimplexMesh<3> target_mesh;
+        {
+          TimerOutput::Scope t(context.timer, "mesh (gmsh + checks)");
+          target_mesh = read_simplex_mesh<3>(mesh.options(mesh.element_size), 3);
+          check_simplex_mesh(target_mesh, 3); // an inverted target element is a clear error here
+        }
+        HyperelasticBoundaryConditions conditions;
+        conditions.clamped = supports;
+        // The load vector (weight of the target shape, point loads) and the support vertices.
+        const HyperelasticProblem on_target =
+            make_hyperelastic_problem(target_mesh, material, conditions, loads);
+        std::vector<unsigned int> support_vertices;
+        for (const auto &f : on_target.internal.fixed())
+          if (f.first % 3 == 0)
+            support_vertices.push_back(f.first / 3);
+        const Eigen::VectorXd          &x = on_target.rest_positions;
+        const InverseHyperelasticSystem system(target_mesh, x, material, support_vertices);
+        context.pcout << "inverse design: " << target_mesh.vertices.size() << " vertices, "
+                      << target_mesh.cells.size() << " tetrahedra, load " << on_target.load.norm() << " N"
+                      << std::endl;
+        context.summary.add_number("n_vertices", target_mesh.vertices.size());
+        context.summary.add_number("n_tetrahedra", target_mesh.cells.size());
+
+        Eigen::VectorXd rest = x, rest_newton;
+        if (method == "anm" || method == "both")
+          {
+            TimerOutput::Scope t(context.timer, "inverse ANM");
+            const AnmResult    result = AnmSolver(system, on_target.load, anm).solve(rest);
+            JsonObject         s;
+            s.add_bool("completed", result.completed);
+            s.add_number("lambda_reached", result.lambda);
+            s.add_number("steps", result.steps.size());
+            s.add_number("factorizations", result.factorizations);
+            s.add_number("back_substitutions", result.back_substitutions);
+            s.add_figure("series_time", result.series_seconds, "s");
+            s.add_figure("factorization_time", result.factorization_seconds, "s");
+            s.add_figure("wall_time", result.total_seconds, "s");
+            context.summary.add_object("anm", s);
+            context.pcout << "inverse ANM: " << (result.completed ? "reached" : "stopped at")
+                          << " lambda = " << result.lambda << " in " << result.steps.size() << " steps, "
+                          << result.factorizations << " factorizations, " << result.total_seconds << " s"
+                          << std::endl;
+            if (!result.completed)
+              context.partial_reason = "inverse ANM: " + result.stop_reason;
+          }
+        if ((method == "newton" || method == "both") && context.partial_reason.empty())
+          {
+            TimerOutput::Scope t(context.timer, "inverse Newton");
+            rest_newton = x;
+            JsonObject s;
+            s.add_number("load_steps", newton_steps);
+            try
+              {
+                const LoadSteppingResult result = solve_equilibrium_with_newton(
+                    system, on_target.load, rest_newton, newton_steps, anm.residual_tolerance);
+                s.add_bool("completed", true);
+                s.add_number("iterations", result.iterations);
+                s.add_number("factorizations", result.factorizations);
+                s.add_figure("wall_time", result.seconds, "s");
+                context.pcout << "inverse Newton: " << result.iterations << " iterations, " << result.seconds
+                              << " s" << std::endl;
+              }
+            catch (const ExceptionBase &e)
+              {
+                // The baseline failing is a result, not an error of the run (unless it is the only method).
+                std::ostringstream message;
+                e.print_info(message);
+                AssertThrow(method == "both", ExcMessage("inverse Newton: " + message.str()));
+                s.add_bool("completed", false);
+                s.add_string("failure", message.str());
+                context.pcout << "inverse Newton failed: " << message.str() << std::endl;
+                rest_newton.resize(0);
+              }
+            context.summary.add_object("newton", s);
+            if (method == "newton")
+              rest = rest_newton;
+            else if (rest_newton.size())
+              context.summary.add_figure("anm_newton_difference",
+                                         (rest - rest_newton).lpNorm<Eigen::Infinity>(), "m");
+          }
+
+        // Verification: forward from the rest shape under the same loads must return the target.
+        double lo[3], hi[3];
+        for (int i = 0; i < 3; ++i)
+          lo[i] = hi[i] = x[i];
+        for (std::size_t v = 0; v < target_mesh.vertices.size(); ++v)
+          for (int i = 0; i < 3; ++i)
+            lo[i] = std::min(lo[i], x[3 * v + i]), hi[i] = std::max(hi[i], x[3 * v + i]);
+        const double diagonal =
+            std::sqrt(std::pow(hi[0] - lo[0], 2) + std::pow(hi[1] - lo[1], 2) + std::pow(hi[2] - lo[2], 2));
+        Eigen::VectorXd x_forward = rest;
+        if (context.partial_reason.empty())
+          {
+            TimerOutput::Scope t(context.timer, "forward check");
+            RawSimplexMesh<3>  rest_mesh = target_mesh;
+            for (std::size_t v = 0; v < rest_mesh.vertices.size(); ++v)
+              rest_mesh.vertices[v] = Point<3>(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]);
+            HyperelasticProblem forward = make_hyperelastic_problem(rest_mesh, material, conditions, {});
+            forward.load                = on_target.load;
+            // Stability of the target as an equilibrium of the rest shape: a positive definite
+            // Hessian there. An unstable target cannot be realised by the fabricated part.
+            SparseFactorization stability;
+            stability.factorize(FreeDofMap(forward.internal).restrict(forward.internal.hessian(x)));
+            context.summary.add_bool("target_equilibrium_stable", stability.positive_definite());
+            if (!stability.positive_definite() && context.is_root())
+              std::cerr
+                  << "nlmech: warning: the target is an UNSTABLE equilibrium of the computed rest shape; a "
+                     "fabricated part would not stay in it (stiffer material or more supports help)."
+                  << std::endl;
+            x_forward                   = forward.rest_positions;
+            AnmSettings settings        = anm;
+            settings.residual_tolerance = std::min(anm.residual_tolerance, 1e-10);
+            const AnmResult check =
+                AnmSolver(forward.internal, forward.load, settings, forward.elastic.get()).solve(x_forward);
+            context.summary.add_bool("forward_check_completed", check.completed);
+            const double error = (x_forward - x).lpNorm<Eigen::Infinity>() / diagonal;
+            context.summary.add_figure("round_trip_error_relative_to_diagonal", error, "1");
+            context.summary.add_figure("bounding_box_diagonal", diagonal, "m");
+            context.summary.add_figure("max_rest_to_target_distance", (rest - x).lpNorm<Eigen::Infinity>(),
+                                       "m");
+            context.pcout << "forward check: max |x_forward - x_target| / diagonal = " << error << std::endl;
+          }
+        if (context.is_root())
+          {
+            TimerOutput::Scope t(context.timer, "output");
+            write_vertex_fields_vtu(
+                target_mesh, {{"rest_minus_target", rest - x}, {"forward_minus_target", x_forward - x}}, {},
+                context.output.file("target.vtu"));
+            write_file_atomically(context.output.file("rest_shape.msh"), rest_shape_msh(target_mesh, rest));
+          }
+      }
+
+    private:
+      MeshParameters           mesh;
+      HyperelasticMaterial     material;
+      std::vector<std::string> supports;
+      HyperelasticLoads        loads;
+      std::string              method;
+      AnmSettings              anm;
+      unsigned int             newton_steps = 5;
+    };
+  } // namespace
+
+  NLMECH_REGISTER_SCENE(inverse_design,
+                        (SceneInfo{
+                            "inverse-design",
+                            "Rest shape that deforms into a target shape under its loads (neo-Hookean), by "
+                            "the ANM and/or Newton, with the forward round trip checked.",
+                            &InverseDesignScene::declare_parameters,
+                            [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
+                              return std::make_unique<InverseDesignScene>(prm);
+                            }}))
+} // namespace nlmech

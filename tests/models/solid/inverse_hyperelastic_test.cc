@@ -1,0 +1,195 @@
+// Tests source/models/solid/inverse_hyperelastic.cc: the inverse internal force against the forward
+// energy gradient, its non-symmetric tangent and series against finite differences, and the
+// inverse-then-forward round trip by ANM and by Newton.
+#include <nlmech/models/solid/hyperelastic_model.h>
+#include <nlmech/models/solid/inverse_hyperelastic.h>
+#include <nlmech/solvers/anm/anm_solver.h>
+#include <nlmech/solvers/linear/sparse_factorization.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace dealii;
+using namespace nlmech;
+
+namespace
+{
+  const std::string source_dir = NLMECH_SOURCE_DIR;
+
+  HyperelasticMaterial silicone(double E = 1e5)
+  {
+    HyperelasticMaterial m;
+    m.youngs_modulus = E;
+    m.poissons_ratio = 0.45;
+    m.density        = 1100;
+    return m;
+  }
+
+  Eigen::VectorXd positions(const RawSimplexMesh<3> &mesh)
+  {
+    Eigen::VectorXd x(3 * mesh.vertices.size());
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+      for (int i = 0; i < 3; ++i)
+        x[3 * v + i] = mesh.vertices[v][i];
+    return x;
+  }
+
+  std::vector<unsigned int> vertices_of(const RawSimplexMesh<3> &mesh, const std::string &group)
+  {
+    std::vector<unsigned int> out;
+    const unsigned int        id = mesh.groups.boundary_id(group);
+    for (std::size_t f = 0; f < mesh.boundary_faces.size(); ++f)
+      if (mesh.boundary_face_id[f] == id)
+        out.insert(out.end(), mesh.boundary_faces[f].begin(), mesh.boundary_faces[f].end());
+    return out;
+  }
+} // namespace
+
+TEST(InverseHyperelastic, ForceEqualsForwardGradientAndTangentMatchesDifferences)
+{
+  MeshOptions                            options{source_dir + "/meshes/block.geo", 0.5, {}};
+  const RawSimplexMesh<3>                mesh   = read_simplex_mesh<3>(options, 3);
+  const Eigen::VectorXd                  target = positions(mesh);
+  std::mt19937                           random(1);
+  std::uniform_real_distribution<double> uniform(-0.03, 0.03);
+  Eigen::VectorXd                        rest = target;
+  for (auto &v : rest)
+    v += uniform(random);
+  const InverseHyperelasticSystem system(mesh, target, silicone(), vertices_of(mesh, "x0"));
+
+  // Forward: the gradient in x of the energy built on rest shape `rest`, evaluated at the target.
+  std::vector<Point<3>> rest_points(mesh.vertices.size());
+  for (std::size_t v = 0; v < rest_points.size(); ++v)
+    rest_points[v] = Point<3>(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]);
+  const HyperelasticTetTerm forward(rest_points, mesh.cells, silicone());
+  Eigen::VectorXd           g = Eigen::VectorXd::Zero(target.size());
+  forward.add_gradient(target, g);
+  const Eigen::VectorXd r = system.internal_force(rest);
+  EXPECT_LT((r - g).norm(), 1e-10 * g.norm());
+
+  // Non-symmetric tangent dr/dX against central differences.
+  const Eigen::MatrixXd K     = Eigen::MatrixXd(system.tangent(rest));
+  double                worst = 0;
+  const double          h     = 1e-7;
+  for (int j = 0; j < rest.size(); ++j)
+    {
+      Eigen::VectorXd p = rest, m = rest;
+      p[j] += h, m[j] -= h;
+      worst = std::max(worst, ((system.internal_force(p) - system.internal_force(m)) / (2 * h) - K.col(j))
+                                  .lpNorm<Eigen::Infinity>());
+    }
+  EXPECT_LT(worst, 1e-5 * K.lpNorm<Eigen::Infinity>());
+  EXPECT_GT((K - K.transpose()).lpNorm<Eigen::Infinity>(), 1e-3 * K.lpNorm<Eigen::Infinity>());
+
+  // Series: coefficient 2 along X(a) = X0 + a X1 (+ K X2) against second differences.
+  Eigen::VectorXd X1 = Eigen::VectorXd::Zero(rest.size());
+  for (auto &v : X1)
+    v = uniform(random);
+  const double          a = 1e-3;
+  const Eigen::VectorXd d2 =
+      (system.internal_force(rest + a * X1) - 2 * r + system.internal_force(rest - a * X1)) / (2 * a * a);
+  const Eigen::VectorXd c2 = system.internal_force_series_coefficient({rest, X1}, 2);
+  EXPECT_LT((c2 - d2).norm(), 1e-5 * d2.norm());
+}
+
+class RoundTrip : public ::testing::TestWithParam<double>
+{
+};
+
+TEST_P(RoundTrip, ReproducesTheTarget)
+{
+  // The target: a straight soft bar. Its rest shape must sag upwards so that gravity pulls it
+  // straight (paper Fig. 5). Forward from the computed rest shape must give back the target.
+  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}};
+  const RawSimplexMesh<3> mesh   = read_simplex_mesh<3>(options, 3);
+  const Eigen::VectorXd   target = positions(mesh);
+  HyperelasticLoads       loads;
+  loads.gravity = Tensor<1, 3>({0, 0, -9.81});
+  HyperelasticBoundaryConditions conditions;
+  conditions.clamped = {"clamped"};
+  const HyperelasticProblem forward_on_target =
+      make_hyperelastic_problem(mesh, silicone(GetParam()), conditions, loads);
+  const Eigen::VectorXd g = forward_on_target.load; // lumped weight of the target shape
+
+  const InverseHyperelasticSystem system(mesh, target, silicone(GetParam()), vertices_of(mesh, "clamped"));
+  Eigen::VectorXd                 rest = target;
+  AnmSettings                     settings;
+  settings.residual_tolerance = 1e-10;
+  const AnmResult result      = AnmSolver(system, g, settings).solve(rest);
+  ASSERT_TRUE(result.completed) << result.stop_reason;
+  EXPECT_GT((rest - target).lpNorm<Eigen::Infinity>(), 1e-3); // a different rest shape
+
+  // Forward from the computed rest shape, under the same nodal loads.
+  RawSimplexMesh<3> rest_mesh = mesh;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    rest_mesh.vertices[v] = Point<3>(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]);
+  HyperelasticLoads   no_gravity;
+  HyperelasticProblem forward =
+      make_hyperelastic_problem(rest_mesh, silicone(GetParam()), conditions, no_gravity);
+  forward.load = g;
+  {
+    // The target must be a stable equilibrium of the computed rest shape (Hessian positive definite).
+    SparseFactorization factorization;
+    factorization.factorize(FreeDofMap(forward.internal).restrict(forward.internal.hessian(target)));
+    EXPECT_TRUE(factorization.positive_definite());
+  }
+  Eigen::VectorXd x     = forward.rest_positions;
+  const AnmResult check = AnmSolver(forward.internal, forward.load, settings, forward.elastic.get()).solve(x);
+  ASSERT_TRUE(check.completed) << check.stop_reason;
+  const double diagonal = std::sqrt(0.3 * 0.3 + 2 * 0.03 * 0.03);
+  EXPECT_LT((x - target).lpNorm<Eigen::Infinity>() / diagonal, 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(StiffAndSoft, RoundTrip, ::testing::Values(1e7, 1e6));
+
+TEST(InverseHyperelastic, TooSoftBarHasAnUnstableTarget)
+{
+  // At E = 0.1 MPa the bar that should hang straight needs a rest shape curled into a hook (0.4 m
+  // from the target); the straight target is then an unstable equilibrium of it (like an inverted
+  // pendulum), so a fabricated part would not stay there. The system must say so.
+  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}};
+  const RawSimplexMesh<3> mesh   = read_simplex_mesh<3>(options, 3);
+  const Eigen::VectorXd   target = positions(mesh);
+  HyperelasticLoads       loads;
+  loads.gravity = Tensor<1, 3>({0, 0, -9.81});
+  HyperelasticBoundaryConditions conditions;
+  conditions.clamped                = {"clamped"};
+  const Eigen::VectorXd           g = make_hyperelastic_problem(mesh, silicone(1e5), conditions, loads).load;
+  const InverseHyperelasticSystem system(mesh, target, silicone(1e5), vertices_of(mesh, "clamped"));
+  Eigen::VectorXd                 rest = target;
+  ASSERT_TRUE(AnmSolver(system, g, AnmSettings()).solve(rest).completed);
+  EXPECT_GT((rest - target).lpNorm<Eigen::Infinity>(), 0.3);
+  RawSimplexMesh<3> rest_mesh = mesh;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    rest_mesh.vertices[v] = Point<3>(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]);
+  const HyperelasticProblem forward = make_hyperelastic_problem(rest_mesh, silicone(1e5), conditions, {});
+  SparseFactorization       factorization;
+  factorization.factorize(FreeDofMap(forward.internal).restrict(forward.internal.hessian(target)));
+  EXPECT_FALSE(factorization.positive_definite());
+}
+
+TEST(InverseHyperelastic, AnmAgreesWithNewton)
+{
+  // A stiffer bar (E = 1 MPa), moderately nonlinear, where Newton with line search converges with
+  // load stepping: both solvers must find the same rest shape.
+  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}};
+  const RawSimplexMesh<3> mesh     = read_simplex_mesh<3>(options, 3);
+  HyperelasticMaterial    material = silicone();
+  material.youngs_modulus          = 1e7;
+  HyperelasticLoads loads;
+  loads.gravity = Tensor<1, 3>({0, 0, -9.81});
+  HyperelasticBoundaryConditions conditions;
+  conditions.clamped                = {"clamped"};
+  const Eigen::VectorXd           g = make_hyperelastic_problem(mesh, material, conditions, loads).load;
+  const Eigen::VectorXd           x = positions(mesh);
+  const InverseHyperelasticSystem system(mesh, x, material, vertices_of(mesh, "clamped"));
+  Eigen::VectorXd                 rest = x;
+  AnmSettings                     settings;
+  settings.residual_tolerance = 1e-10;
+  ASSERT_TRUE(AnmSolver(system, g, settings).solve(rest).completed);
+  Eigen::VectorXd newton = x;
+  solve_equilibrium_with_newton(system, g, newton, 10, 1e-10);
+  EXPECT_GT((rest - x).lpNorm<Eigen::Infinity>(), 5e-3);
+  EXPECT_LT((newton - rest).lpNorm<Eigen::Infinity>(), 1e-8 * (rest - x).lpNorm<Eigen::Infinity>());
+}
