@@ -12,8 +12,10 @@
 #include <nlmech/models/solid/hyperelastic_model.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
 #include <nlmech/solvers/anm/anm_solver.h>
+#include <nlmech/solvers/relaxation/kinetic_damping.h>
 
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 namespace nlmech
@@ -55,9 +57,11 @@ namespace nlmech
         prm.leave_subsection();
         prm.enter_subsection("Solver");
         prm.declare_entry(
-            "Method", "anm", Patterns::Selection("anm|newton|both"),
-            "anm: Asymptotic Numerical Method; newton: Newton with line search and load stepping; "
-            "both: run the two on the same model and compare.");
+            "Methods", "anm", Patterns::MultipleSelection("anm|newton|kinetic-damping"),
+            "Comma-separated, run side by side on the same model: anm (Asymptotic Numerical Method), newton "
+            "(Newton with line search and load stepping), kinetic-damping (implicit Euler dynamic relaxation "
+            "with "
+            "kinetic damping).");
         prm.declare_entry("ANM order", "20", Patterns::Integer(2, 31),
                           "Truncation order n of the series [-].");
         prm.declare_entry("Series tolerance", "1e-6", Patterns::Double(0),
@@ -115,7 +119,8 @@ namespace nlmech
             }
         prm.leave_subsection();
         prm.enter_subsection("Solver");
-        method                 = prm.get("Method");
+        for (const auto &m : Utilities::split_string_list(prm.get("Methods"), ','))
+          methods.insert(m);
         anm.order              = prm.get_integer("ANM order");
         anm.series_tolerance   = prm.get_double("Series tolerance");
         anm.residual_tolerance = prm.get_double("Residual tolerance");
@@ -151,7 +156,7 @@ namespace nlmech
         std::vector<std::pair<std::string, Eigen::VectorXd>> fields;
         Eigen::VectorXd                                      x_anm, x_newton;
         double                                               scale = 0;
-        if (method == "anm" || method == "both")
+        if (methods.count("anm"))
           {
             TimerOutput::Scope t(context.timer, "ANM");
             x_anm = problem.rest_positions;
@@ -193,7 +198,7 @@ namespace nlmech
             if (!result.completed)
               context.partial_reason = "ANM: " + result.stop_reason;
           }
-        if ((method == "newton" || method == "both") && context.partial_reason.empty())
+        if (methods.count("newton") && context.partial_reason.empty())
           {
             TimerOutput::Scope t(context.timer, "Newton with load stepping");
             x_newton                        = problem.rest_positions;
@@ -212,9 +217,41 @@ namespace nlmech
             fields.emplace_back("displacement_newton", x_newton - problem.rest_positions);
             scale = std::max(scale, (x_newton - problem.rest_positions).lpNorm<Eigen::Infinity>());
           }
+        Eigen::VectorXd x_relaxed;
+        if (methods.count("kinetic-damping") && context.partial_reason.empty())
+          {
+            TimerOutput::Scope t(context.timer, "kinetic damping");
+            x_relaxed = problem.rest_positions;
+            KineticDampingSettings settings;
+            settings.relative_tolerance = anm.residual_tolerance;
+            const KineticDampingResult result =
+                solve_with_kinetic_damping(problem.internal, problem.load, x_relaxed, settings);
+            JsonObject s;
+            s.add_bool("converged", result.converged);
+            s.add_number("time_steps", result.time_steps);
+            s.add_figure("time_step", result.time_step, "s");
+            s.add_number("velocity_resets", result.velocity_resets);
+            s.add_number("newton_iterations", result.newton_iterations);
+            s.add_number("factorizations", result.factorizations);
+            s.add_figure("wall_time", result.seconds, "s");
+            s.add_number("final_relative_residual", result.residual);
+            context.summary.add_object("kinetic_damping", s);
+            context.pcout << "kinetic damping: " << (result.converged ? "converged" : "NOT converged")
+                          << " in " << result.time_steps << " time steps, " << result.factorizations
+                          << " factorizations, " << result.seconds << " s" << std::endl;
+            fields.emplace_back("displacement_kinetic_damping", x_relaxed - problem.rest_positions);
+            scale = std::max(scale, (x_relaxed - problem.rest_positions).lpNorm<Eigen::Infinity>());
+            if (!result.converged)
+              context.partial_reason = "kinetic damping did not converge in " +
+                                       std::to_string(result.time_steps) + " time steps (relative residual " +
+                                       std::to_string(result.residual) + ", at lambda = 1)";
+          }
         if (x_anm.size() && x_newton.size())
           context.summary.add_figure("anm_newton_difference_relative",
                                      (x_anm - x_newton).lpNorm<Eigen::Infinity>() / scale, "1");
+        if (x_anm.size() && x_relaxed.size())
+          context.summary.add_figure("anm_kinetic_damping_difference_relative",
+                                     (x_anm - x_relaxed).lpNorm<Eigen::Infinity>() / scale, "1");
         if (context.is_root())
           {
             TimerOutput::Scope t(context.timer, "output (VTU)");
@@ -227,7 +264,7 @@ namespace nlmech
       HyperelasticMaterial           material;
       HyperelasticBoundaryConditions conditions;
       HyperelasticLoads              loads;
-      std::string                    method;
+      std::set<std::string>          methods;
       AnmSettings                    anm;
       unsigned int                   newton_steps = 10;
     };

@@ -15,7 +15,9 @@
 #include <nlmech/scenes/elastic_statics_parameters.h>
 #include <nlmech/solvers/anm/anm_solver.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
+#include <nlmech/solvers/relaxation/levenberg_marquardt.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -83,9 +85,10 @@ namespace nlmech
         prm.leave_subsection();
         prm.enter_subsection("Solver");
         prm.declare_entry(
-            "Method", "anm", Patterns::Selection("anm|newton|both"),
-            "anm: Asymptotic Numerical Method from X = x; newton: Newton with line search on the "
-            "residual, load stepped; both: the two side by side.");
+            "Methods", "anm", Patterns::MultipleSelection("anm|newton|levenberg-marquardt"),
+            "Comma-separated, side by side on the same target; the first listed gives the rest shape: anm "
+            "(Asymptotic Numerical Method from X = x), newton (Newton with line search on the residual, load "
+            "stepped), levenberg-marquardt (the paper's baseline, from X = x).");
         prm.declare_entry("ANM order", "20", Patterns::Integer(2, 31), "Truncation order n [-].");
         prm.declare_entry("Series tolerance", "1e-6", Patterns::Double(0), "r of eqs. (19)-(20) [-].");
         prm.declare_entry("Residual tolerance", "1e-9", Patterns::Double(0),
@@ -125,7 +128,7 @@ namespace nlmech
             }
         prm.leave_subsection();
         prm.enter_subsection("Solver");
-        method                 = prm.get("Method");
+        methods                = Utilities::split_string_list(prm.get("Methods"), ',');
         anm.order              = prm.get_integer("ANM order");
         anm.series_tolerance   = prm.get_double("Series tolerance");
         anm.residual_tolerance = prm.get_double("Residual tolerance");
@@ -165,7 +168,10 @@ namespace nlmech
         context.summary.add_number("n_tetrahedra", target_mesh.cells.size());
 
         Eigen::VectorXd rest = x, rest_newton;
-        if (method == "anm" || method == "both")
+        auto            uses = [&](const std::string &m) {
+          return std::find(methods.begin(), methods.end(), m) != methods.end();
+        };
+        if (uses("anm"))
           {
             TimerOutput::Scope t(context.timer, "inverse ANM");
             const AnmResult    result = AnmSolver(system, on_target.load, anm).solve(rest);
@@ -186,7 +192,7 @@ namespace nlmech
             if (!result.completed)
               context.partial_reason = "inverse ANM: " + result.stop_reason;
           }
-        if ((method == "newton" || method == "both") && context.partial_reason.empty())
+        if (uses("newton") && context.partial_reason.empty())
           {
             TimerOutput::Scope t(context.timer, "inverse Newton");
             rest_newton = x;
@@ -208,18 +214,45 @@ namespace nlmech
                 // The baseline failing is a result, not an error of the run (unless it is the only method).
                 std::ostringstream message;
                 e.print_info(message);
-                AssertThrow(method == "both", ExcMessage("inverse Newton: " + message.str()));
+                AssertThrow(methods.size() > 1, ExcMessage("inverse Newton: " + message.str()));
                 s.add_bool("completed", false);
                 s.add_string("failure", message.str());
                 context.pcout << "inverse Newton failed: " << message.str() << std::endl;
                 rest_newton.resize(0);
               }
             context.summary.add_object("newton", s);
-            if (method == "newton")
+            if (methods.front() == "newton")
               rest = rest_newton;
-            else if (rest_newton.size())
+            else if (rest_newton.size() && uses("anm"))
               context.summary.add_figure("anm_newton_difference",
                                          (rest - rest_newton).lpNorm<Eigen::Infinity>(), "m");
+          }
+
+        if (uses("levenberg-marquardt") && context.partial_reason.empty())
+          {
+            TimerOutput::Scope         t(context.timer, "inverse Levenberg-Marquardt");
+            Eigen::VectorXd            rest_lm = x;
+            LevenbergMarquardtSettings settings;
+            settings.relative_tolerance = anm.residual_tolerance;
+            const LevenbergMarquardtResult result =
+                solve_with_levenberg_marquardt(system, on_target.load, rest_lm, settings);
+            JsonObject s;
+            s.add_bool("converged", result.converged);
+            s.add_number("iterations", result.iterations);
+            s.add_number("factorizations", result.factorizations);
+            s.add_figure("wall_time", result.seconds, "s");
+            s.add_number("final_relative_residual", result.residual);
+            context.summary.add_object("levenberg_marquardt", s);
+            context.pcout << "inverse Levenberg-Marquardt: "
+                          << (result.converged ? "converged" : "NOT converged") << " in " << result.iterations
+                          << " iterations, " << result.seconds << " s" << std::endl;
+            if (methods.front() == "levenberg-marquardt")
+              {
+                rest = rest_lm;
+                if (!result.converged)
+                  context.partial_reason = "Levenberg-Marquardt did not converge (relative residual " +
+                                           std::to_string(result.residual) + ")";
+              }
           }
 
         // Verification: forward from the rest shape under the same loads must return the target.
@@ -278,7 +311,7 @@ namespace nlmech
       HyperelasticMaterial     material;
       std::vector<std::string> supports;
       HyperelasticLoads        loads;
-      std::string              method;
+      std::vector<std::string> methods;
       AnmSettings              anm;
       unsigned int             newton_steps = 5;
     };

@@ -127,6 +127,9 @@ namespace nlmech
                 break;
               }
           }
+        // No decrease at round-off level: the gradient is as small as double precision allows.
+        if (!accepted && g.norm() <= 1e-8 * g0)
+          return result;
         AssertThrow(accepted, dealii::ExcMessage("Newton: the line search found no decrease (gradient norm " +
                                                  std::to_string(g.norm()) + ")."));
         g = free_gradient(x);

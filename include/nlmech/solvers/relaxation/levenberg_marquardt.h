@@ -1,0 +1,29 @@
+#pragma once
+// Levenberg-Marquardt on |r(q) - g|^2 for an EquilibriumSystem: the baseline of the ANM paper's
+// inverse-design comparison. Each iteration solves (J^T J + mu diag(J^T J)) dq = -J^T R with CHOLMOD;
+// mu shrinks after a successful step and grows after a rejected one.
+
+#include <nlmech/solvers/anm/equilibrium_system.h>
+
+namespace nlmech
+{
+  struct LevenbergMarquardtSettings
+  {
+    double       relative_tolerance = 1e-9;
+    unsigned int max_iterations     = 2000;
+    double       initial_damping    = 1e-3;
+  };
+
+  struct LevenbergMarquardtResult
+  {
+    bool         converged      = false;
+    unsigned int iterations     = 0;
+    unsigned int factorizations = 0;
+    double       residual       = 0; // relative
+    double       seconds        = 0;
+  };
+
+  LevenbergMarquardtResult solve_with_levenberg_marquardt(const EquilibriumSystem &system,
+                                                          const Eigen::VectorXd &load, Eigen::VectorXd &q,
+                                                          const LevenbergMarquardtSettings &settings = {});
+} // namespace nlmech
