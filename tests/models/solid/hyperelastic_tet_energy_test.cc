@@ -114,6 +114,33 @@ TEST_P(HyperelasticLaws, SeriesKernelEqualsSacadoTaylorArithmetic)
     }
 }
 
+TEST(NeoHookeanSeries, RecurrencesEqualTaylorArithmetic)
+{
+  // The auxiliary-variable recurrences (cached, O(k) per order) against the generic Sacado Taylor
+  // arithmetic on the energy, and against the truncated-series kernel, orders 1..12 in sequence.
+  const RawSimplexMesh<3>      mesh = block_mesh(0.5);
+  const HyperelasticTetTerm    term(mesh.vertices, mesh.cells, rubber(HyperelasticLaw::neo_hookean));
+  HyperelasticTetElements      kernels = term.elements();
+  std::vector<Eigen::VectorXd> path    = {perturbed_positions(mesh, 0.02, 21)};
+  for (unsigned int j = 1; j <= 12; ++j)
+    path.push_back(perturbed_positions(mesh, 0.02, 21 + j) * std::pow(0.05, j));
+  for (unsigned int k = 1; k <= 12; ++k)
+    {
+      Eigen::VectorXd recurrences = Eigen::VectorXd::Zero(path[0].size()), series = recurrences,
+                      taylor  = recurrences;
+      kernels.use_recurrences = true;
+      for (std::size_t e = 0; e < kernels.n_elements(); ++e)
+        kernels.add_gradient_series_coefficient(path, k, e, recurrences);
+      kernels.use_recurrences = false;
+      for (std::size_t e = 0; e < kernels.n_elements(); ++e)
+        kernels.add_gradient_series_coefficient(path, k, e, series);
+      term.add_gradient_series_coefficient_by_taylor_ad(path, k, taylor);
+      const double scale = std::max(1.0, taylor.norm());
+      EXPECT_LT((recurrences - taylor).norm(), 1e-12 * scale) << "order " << k;
+      EXPECT_LT((series - taylor).norm(), 1e-12 * scale) << "order " << k;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(BothLaws, HyperelasticLaws,
                          ::testing::Values(HyperelasticLaw::neo_hookean,
                                            HyperelasticLaw::saint_venant_kirchhoff));

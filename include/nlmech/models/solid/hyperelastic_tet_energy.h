@@ -117,11 +117,27 @@ namespace nlmech
     void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path, unsigned int k,
                                          std::size_t e, Eigen::VectorXd &out) const;
 
+    /// The neo-Hookean ANM kernel by auxiliary-variable recurrences (ANM paper section 4.2.2 and
+    /// appendix A, here on cof F, J, I_c, s = J^(-2/3), u = s I_c / J): every coefficient is linear
+    /// in the newest one, so with the lower orders cached per element one order costs O(k) instead
+    /// of O(k^2). Valid while called with k = 2, 3, ... on one path; anything else restarts the cache.
+    void add_neo_hookean_series_by_recurrences(const std::vector<Eigen::VectorXd> &path, unsigned int k,
+                                               std::size_t e, Eigen::VectorXd &out) const;
+    /// Use the recurrences for neo-Hookean (default); false forces the truncated-series kernel.
+    bool use_recurrences = true;
+
     HyperelasticLaw                                   law;
     double                                            mu, kappa, lambda;
     std::vector<std::array<unsigned int, 4>>          tets;
     std::vector<std::array<std::array<double, 3>, 3>> rest_shape_inverse; // D_m^-1
     std::vector<double>                               volume;             // rest volume
+
+  private:
+    static constexpr int        series_capacity = 32;
+    static constexpr int        cached_series   = 9 + 9 + 5; // F, cof F, J, I_c, s, t = s I_c, u = t / J
+    mutable std::vector<double> cache;                       // element-major: [e][quantity][order]
+    mutable std::vector<int>    cached_order;          // per element: highest exact order cached, -1: none
+    mutable std::vector<const double *> cached_origin; // per element: path[0].data() it was built for
   };
 
   extern template class ElementEnergyTerm<HyperelasticTetElements>;
