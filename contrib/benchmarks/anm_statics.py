@@ -8,7 +8,8 @@ by ANM, Newton with line search on the residual (20 load steps) and Levenberg-Ma
 Prints wall times (median of --repeats), factorisation counts, iterations and the speed-ups, and the
 share of ANM time spent in factorisation and back-substitution.
 
-usage: anm_statics.py [--nlmech build/nlmech] [--repeats 3] [--sizes 0.015,0.01]
+usage: anm_statics.py [--nlmech build/nlmech] [--repeats 3] [--sizes 0.015,0.01,0.007]
+                      [--inverse-sizes 0.015,0.01] [--inverse-repeats 1]
 """
 import argparse
 import json
@@ -80,11 +81,14 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--nlmech", default=os.path.join(SOURCE, "build", "nlmech"))
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--sizes", default="0.015,0.01")
+    parser.add_argument("--sizes", default="0.015,0.01,0.007", help="forward element sizes [m]")
+    parser.add_argument("--inverse-sizes", default="0.015,0.01", help="inverse element sizes [m]")
+    parser.add_argument("--inverse-repeats", type=int, default=1,
+                        help="Levenberg-Marquardt takes minutes: fewer repeats for the inverse table")
     args = parser.parse_args()
     mesh = os.path.join(SOURCE, "meshes", "cantilever.geo")
     print(f"# ANM statics benchmark, {time.strftime('%Y-%m-%d')}, {platform.node()}, {os.cpu_count()} cores, "
-          f"median of {args.repeats}")
+          f"median of {args.repeats} (forward) and {args.inverse_repeats} (inverse)")
     work = tempfile.mkdtemp(prefix="nlmech_anm_bench_")
     try:
         print("\n## Forward: ANM vs Newton (10 load steps) vs kinetic damping\n")
@@ -106,8 +110,8 @@ def main():
         print("| vertices | ANM [s] | ANM steps | ANM fact. | Newton [s] | Newton its | LM [s] | LM its | LM converged "
               "| Newton/ANM | LM/ANM | round trip / diagonal |")
         print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-        for h in args.sizes.split(","):
-            runs = [run(args.nlmech, INVERSE.format(mesh=mesh, h=h), work) for _ in range(args.repeats)]
+        for h in args.inverse_sizes.split(","):
+            runs = [run(args.nlmech, INVERSE.format(mesh=mesh, h=h), work) for _ in range(args.inverse_repeats)]
             a, n, l = (median_of(runs, m, "wall_time") for m in ("anm", "newton", "levenberg_marquardt"))
             r0 = runs[0]
             print(f"| {r0['n_vertices']} | {a:.2f} | {r0['anm']['steps']} | {r0['anm']['factorizations']} | {n:.2f} "
