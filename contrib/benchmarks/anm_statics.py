@@ -74,7 +74,9 @@ def value(entry):
 
 
 def median_of(runs, method, key):
-    return statistics.median(value(r[method][key]) for r in runs)
+    """Median over the runs, or NaN when the method failed (its summary has no such figure)."""
+    values = [value(r[method][key]) for r in runs if key in r.get(method, {})]
+    return statistics.median(values) if values else float("nan")
 
 
 def main():
@@ -83,6 +85,7 @@ def main():
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--sizes", default="0.015,0.01,0.007", help="forward element sizes [m]")
     parser.add_argument("--inverse-sizes", default="0.015,0.01", help="inverse element sizes [m]")
+    parser.add_argument("--skip-forward", action="store_true")
     parser.add_argument("--inverse-repeats", type=int, default=1,
                         help="Levenberg-Marquardt takes minutes: fewer repeats for the inverse table")
     args = parser.parse_args()
@@ -95,7 +98,7 @@ def main():
         print("| vertices | ANM [s] | ANM steps | ANM fact. | Newton [s] | Newton its | KD [s] | KD steps | KD fact. "
               "| Newton/ANM | KD/ANM | ANM share fact.+solve |")
         print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-        for h in args.sizes.split(","):
+        for h in ([] if args.skip_forward else args.sizes.split(",")):
             runs = [run(args.nlmech, FORWARD.format(mesh=mesh, h=h), work) for _ in range(args.repeats)]
             a, n, k = (median_of(runs, m, "wall_time") for m in ("anm", "newton", "kinetic_damping"))
             share = statistics.median(
@@ -115,7 +118,7 @@ def main():
             a, n, l = (median_of(runs, m, "wall_time") for m in ("anm", "newton", "levenberg_marquardt"))
             r0 = runs[0]
             print(f"| {r0['n_vertices']} | {a:.2f} | {r0['anm']['steps']} | {r0['anm']['factorizations']} | {n:.2f} "
-                  f"| {r0['newton'].get('iterations', 'failed')} | {l:.2f} | {r0['levenberg_marquardt']['iterations']} "
+                  f"| {r0['newton'].get('iterations', 'failed: ' + r0['newton'].get('failure', '?').strip()[:60])} | {l:.2f} | {r0['levenberg_marquardt']['iterations']} "
                   f"| {r0['levenberg_marquardt']['converged']} | {n / a:.0f}x | {l / a:.0f}x "
                   f"| {value(r0['round_trip_error_relative_to_diagonal']):.1e} |", flush=True)
     finally:

@@ -111,141 +111,161 @@ namespace nlmech
       return result;
     };
 
-    for (unsigned int step = 0; step < settings.max_steps; ++step)
+    // A failure inside a step (a singular tangent, a non-finite solve) ends the continuation with
+    // the state and load factor reached so far, like a collapse: the caller gets a result, not a throw.
+    try
       {
-        // The tangent at the series origin, factorised once for every order.
-        factorization.factorize(free.restrict(system.tangent(x)), symmetric);
-        const Eigen::VectorXd xt      = factorization.solve(g);
-        double                lambda1 = 1.0 / std::sqrt(1.0 + xt.squaredNorm());
-        if (previous_x1.size() == 0)
-          lambda1 *= direction_of_target;
-        else if ((lambda1 * xt).dot(previous_x1) + lambda1 * previous_lambda1 < 0)
-          lambda1 = -lambda1; // keep going the way the previous series was heading at its end
-        const Eigen::VectorXd x1 = lambda1 * xt;
-
-        const auto                   series_start = Clock::now();
-        std::vector<Eigen::VectorXd> path         = {x, free.expand(x1)};
-        std::vector<Eigen::VectorXd> free_path    = {free.restrict(x), x1};
-        std::vector<double>          lambdas      = {lambda, lambda1};
-        double                       solve_time   = 0;
-        for (unsigned int k = 2; k <= settings.order; ++k)
+        for (unsigned int step = 0; step < settings.max_steps; ++step)
           {
-            const Eigen::VectorXd f_nl = free.restrict(system.internal_force_series_coefficient(path, k));
-            const auto            t0   = Clock::now();
-            const Eigen::VectorXd x_nl = factorization.solve(-f_nl);
-            solve_time += seconds_since(t0);
-            const double          lambda_k = -x_nl.dot(x1) / (xt.dot(x1) + lambda1); // eq. (12)
-            const Eigen::VectorXd xk       = lambda_k * xt + x_nl;                   // eq. (18)
-            free_path.push_back(xk);
-            path.push_back(free.expand(xk));
-            lambdas.push_back(lambda_k);
-          }
-        result.series_seconds += seconds_since(series_start) - solve_time;
+            // The tangent at the series origin, factorised once for every order.
+            factorization.factorize(free.restrict(system.tangent(x)), symmetric);
+            const Eigen::VectorXd xt      = factorization.solve(g);
+            double                lambda1 = 1.0 / std::sqrt(1.0 + xt.squaredNorm());
+            if (previous_x1.size() == 0)
+              lambda1 *= direction_of_target;
+            else if ((lambda1 * xt).dot(previous_x1) + lambda1 * previous_lambda1 < 0)
+              lambda1 = -lambda1; // keep going the way the previous series was heading at its end
+            const Eigen::VectorXd x1 = lambda1 * xt;
 
-        AnmStepRecord record;
-        record.lambda_begin = lambda;
-        const double xn     = free_path.back().norm();
-        record.series_radius =
-            xn > 0 ? std::pow(settings.series_tolerance * x1.norm() / xn, 1.0 / (settings.order - 1)) : 1e30;
-        double a_max = record.series_radius;
-        {
-          const double inversion = system.first_invalid_along_series(path, a_max);
-          if (inversion < a_max)
-            {
-              a_max                       = 0.9 * inversion;
-              record.limited_by_inversion = true;
-            }
-        }
-        const double landing = first_crossing(lambdas, lambda_target, a_max);
-        bool         final   = landing >= 0;
-        double       a       = final ? landing : a_max;
-
-        // Evaluate the series and correct; shorten the step if the corrections do not converge.
-        Eigen::VectorXd trial;
-        bool            converged = false;
-        for (int attempt = 0; attempt < 8 && !converged; ++attempt)
-          {
-            if (a < settings.min_step)
-              break;
-            trial               = evaluate_series(path, a);
-            double lambda_trial = evaluate_series(lambdas, a);
-            if (final)
-              lambda_trial = lambda_target;
-            record.corrections       = 0;
-            double previous_residual = std::numeric_limits<double>::max();
-            for (;;)
+            const auto                   series_start = Clock::now();
+            std::vector<Eigen::VectorXd> path         = {x, free.expand(x1)};
+            std::vector<Eigen::VectorXd> free_path    = {free.restrict(x), x1};
+            std::vector<double>          lambdas      = {lambda, lambda1};
+            double                       solve_time   = 0;
+            for (unsigned int k = 2; k <= settings.order; ++k)
               {
-                const Eigen::VectorXd R = residual(trial, lambda_trial);
-                record.residual         = R.norm() / g_norm;
-                if (!std::isfinite(record.residual))
+                const Eigen::VectorXd f_nl = free.restrict(system.internal_force_series_coefficient(path, k));
+                const auto            t0   = Clock::now();
+                const Eigen::VectorXd x_nl = factorization.solve(-f_nl);
+                solve_time += seconds_since(t0);
+                const double          lambda_k = -x_nl.dot(x1) / (xt.dot(x1) + lambda1); // eq. (12)
+                const Eigen::VectorXd xk       = lambda_k * xt + x_nl;                   // eq. (18)
+                free_path.push_back(xk);
+                path.push_back(free.expand(xk));
+                lambdas.push_back(lambda_k);
+              }
+            result.series_seconds += seconds_since(series_start) - solve_time;
+
+            AnmStepRecord record;
+            record.lambda_begin = lambda;
+            const double xn     = free_path.back().norm();
+            record.series_radius =
+                xn > 0 ? std::pow(settings.series_tolerance * x1.norm() / xn, 1.0 / (settings.order - 1))
+                       : 1e30;
+            double a_max = record.series_radius;
+            {
+              const double inversion = system.first_invalid_along_series(path, a_max);
+              if (inversion < a_max)
+                {
+                  a_max                       = 0.9 * inversion;
+                  record.limited_by_inversion = true;
+                }
+            }
+            const double landing = first_crossing(lambdas, lambda_target, a_max);
+            bool         final   = landing >= 0;
+            double       a       = final ? landing : a_max;
+
+            // Evaluate the series and correct; shorten the step if the corrections do not converge.
+            Eigen::VectorXd trial;
+            bool            converged = false;
+            for (int attempt = 0; attempt < 8 && !converged; ++attempt)
+              {
+                if (a < settings.min_step)
                   break;
-                const double tolerance = final ? settings.residual_tolerance : settings.path_tolerance;
-                // Round-off floor: a Newton correction that no longer halves a residual already below
-                // the path tolerance has reached what double precision allows for this stiffness.
-                const bool at_round_off = record.corrections > 0 &&
-                                          record.residual > 0.5 * previous_residual &&
-                                          record.residual <= settings.path_tolerance;
-                previous_residual = record.residual;
-                if ((record.residual <= tolerance || at_round_off) && system.is_valid(trial))
+                trial               = evaluate_series(path, a);
+                double lambda_trial = evaluate_series(lambdas, a);
+                if (final)
+                  lambda_trial = lambda_target;
+                record.corrections       = 0;
+                double previous_residual = std::numeric_limits<double>::max();
+                for (;;)
                   {
-                    converged = true;
-                    lambda    = lambda_trial;
-                    break;
+                    const Eigen::VectorXd R = residual(trial, lambda_trial);
+                    record.residual         = R.norm() / g_norm;
+                    if (!std::isfinite(record.residual))
+                      break;
+                    const double tolerance = final ? settings.residual_tolerance : settings.path_tolerance;
+                    // Round-off floor: a Newton correction that no longer halves a residual already below
+                    // the path tolerance has reached what double precision allows for this stiffness.
+                    const bool at_round_off = record.corrections > 0 &&
+                                              record.residual > 0.5 * previous_residual &&
+                                              record.residual <= settings.path_tolerance;
+                    previous_residual = record.residual;
+                    if ((record.residual <= tolerance || at_round_off) && system.is_valid(trial))
+                      {
+                        converged = true;
+                        lambda    = lambda_trial;
+                        break;
+                      }
+                    if (record.corrections == settings.max_corrections || !system.is_valid(trial))
+                      break;
+                    factorization.factorize(free.restrict(system.tangent(trial)), symmetric);
+                    const Eigen::VectorXd dx = free.expand(factorization.solve(-R));
+                    const double safe = system.max_safe_step(trial, dx); // 1 when the full step is safe
+                    trial += (safe < 1.0 ? 0.9 * safe : 1.0) * dx;
+                    ++record.corrections;
                   }
-                if (record.corrections == settings.max_corrections || !system.is_valid(trial))
-                  break;
-                factorization.factorize(free.restrict(system.tangent(trial)), symmetric);
-                const Eigen::VectorXd dx   = free.expand(factorization.solve(-R));
-                const double          safe = system.max_safe_step(trial, dx); // 1 when the full step is safe
-                trial += (safe < 1.0 ? 0.9 * safe : 1.0) * dx;
-                ++record.corrections;
+                if (!converged)
+                  {
+                    a *= 0.5;
+                    final = false;
+                  }
               }
             if (!converged)
               {
-                a *= 0.5;
-                final = false;
+                std::ostringstream reason;
+                reason << "the ANM step length collapsed (a < " << settings.min_step
+                       << ") at lambda = " << lambda
+                       << ": no equilibrium could be followed further (a load beyond a limit point, or an "
+                          "element "
+                          "about to invert)";
+                return finish(false, reason.str());
+              }
+            x                  = trial;
+            record.step_length = a;
+            record.lambda_end  = lambda;
+            result.steps.push_back(record);
+            // The previous series' direction at its end point: d/da of (x(a), lambda(a)) at a.
+            previous_x1      = Eigen::VectorXd::Zero(x1.size());
+            previous_lambda1 = 0;
+            for (unsigned int k = 1; k < free_path.size(); ++k)
+              {
+                const double weight = k * std::pow(a, k - 1.0);
+                previous_x1 += weight * free_path[k];
+                previous_lambda1 += weight * lambdas[k];
+              }
+
+            if (final)
+              return finish(true, "reached lambda = " + std::to_string(lambda_target));
+            // The extreme load factor along the whole step: the series may pass a limit point mid-step.
+            for (int sample = 1; sample <= 1000; ++sample)
+              {
+                const double l = evaluate_series(lambdas, a * sample / 1000.0);
+                highest_lambda =
+                    direction_of_target > 0 ? std::max(highest_lambda, l) : std::min(highest_lambda, l);
+              }
+            if (direction_of_target * (highest_lambda - lambda) >
+                0.05 * std::abs(lambda_target - lambda_start))
+              {
+                std::ostringstream reason;
+                reason << "the load path turned back at lambda = " << highest_lambda
+                       << " (a limit point): there is no equilibrium at lambda = " << lambda_target
+                       << " on this branch";
+                return finish(false, reason.str());
               }
           }
-        if (!converged)
-          {
-            std::ostringstream reason;
-            reason
-                << "the ANM step length collapsed (a < " << settings.min_step << ") at lambda = " << lambda
-                << ": no equilibrium could be followed further (a load beyond a limit point, or an element "
-                   "about to invert)";
-            return finish(false, reason.str());
-          }
-        x                  = trial;
-        record.step_length = a;
-        record.lambda_end  = lambda;
-        result.steps.push_back(record);
-        // The previous series' direction at its end point: d/da of (x(a), lambda(a)) at a.
-        previous_x1      = Eigen::VectorXd::Zero(x1.size());
-        previous_lambda1 = 0;
-        for (unsigned int k = 1; k < free_path.size(); ++k)
-          {
-            const double weight = k * std::pow(a, k - 1.0);
-            previous_x1 += weight * free_path[k];
-            previous_lambda1 += weight * lambdas[k];
-          }
-
-        if (final)
-          return finish(true, "reached lambda = " + std::to_string(lambda_target));
-        // The extreme load factor along the whole step: the series may pass a limit point mid-step.
-        for (int sample = 1; sample <= 1000; ++sample)
-          {
-            const double l = evaluate_series(lambdas, a * sample / 1000.0);
-            highest_lambda =
-                direction_of_target > 0 ? std::max(highest_lambda, l) : std::min(highest_lambda, l);
-          }
-        if (direction_of_target * (highest_lambda - lambda) > 0.05 * std::abs(lambda_target - lambda_start))
-          {
-            std::ostringstream reason;
-            reason << "the load path turned back at lambda = " << highest_lambda
-                   << " (a limit point): there is no equilibrium at lambda = " << lambda_target
-                   << " on this branch";
-            return finish(false, reason.str());
-          }
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        std::ostringstream message;
+        e.print_info(message);
+        std::string text = message.str();
+        text.erase(0, text.find_first_not_of(" \n"));
+        while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
+          text.pop_back();
+        std::ostringstream reason;
+        reason << "stopped at lambda = " << lambda << ": " << text;
+        return finish(false, reason.str());
       }
     return finish(false, "the ANM did not reach lambda = " + std::to_string(lambda_target) + " in " +
                              std::to_string(settings.max_steps) + " steps");

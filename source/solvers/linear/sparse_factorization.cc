@@ -24,6 +24,7 @@ namespace nlmech
     const auto start = std::chrono::steady_clock::now();
     ++n_factorizations;
     use_cholesky = false;
+    matrix       = A;
     if (symmetric)
       {
         if (A.nonZeros() != cholesky_pattern)
@@ -57,7 +58,9 @@ namespace nlmech
     ++n_solves;
     Eigen::VectorXd x = use_cholesky ? Eigen::VectorXd(cholesky.solve(b)) : Eigen::VectorXd(lu.solve(b));
     solve_seconds += seconds_since(start);
-    AssertThrow(x.allFinite(), dealii::ExcMessage("A sparse solve produced NaN or inf (singular tangent)."));
+    AssertThrow(x.allFinite() && (matrix * x - b).norm() <= 1e-6 * b.norm(),
+                dealii::ExcMessage("The tangent matrix is singular: the structure is not held against rigid "
+                                   "motion, or it sits exactly at a bifurcation."));
     return x;
   }
 } // namespace nlmech

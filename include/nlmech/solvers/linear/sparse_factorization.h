@@ -14,7 +14,9 @@ namespace nlmech
   public:
     SparseFactorization();
 
-    /// Factorises A (Cholesky tried first only when `symmetric`); throws if A is singular.
+    /// Factorises A (Cholesky tried first only when `symmetric`); throws if A is singular. Every
+    /// solve checks |A x - b| <= 1e-6 |b|, which catches (numerically) singular matrices whose
+    /// factorisation went through with tiny pivots.
     void            factorize(const Eigen::SparseMatrix<double> &A, bool symmetric = true);
     Eigen::VectorXd solve(const Eigen::VectorXd &b);
     bool            positive_definite() const { return use_cholesky; }
@@ -26,6 +28,7 @@ namespace nlmech
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
     Eigen::UmfPackLU<Eigen::SparseMatrix<double>>            lu;
     Eigen::SparseMatrix<double> lu_matrix; // UMFPACK's solve reads the matrix: it must outlive it
+    Eigen::SparseMatrix<double> matrix;    // for the residual check of every solve
     long                        cholesky_pattern = -1, lu_pattern = -1;
     bool                        use_cholesky = true;
   };
