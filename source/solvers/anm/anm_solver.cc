@@ -261,7 +261,7 @@ namespace nlmech
         e.print_info(message);
         std::string text = message.str();
         text.erase(0, text.find_first_not_of(" \n"));
-        while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
+        while (!text.empty() && (text.back() == '\n' || text.back() == ' ' || text.back() == '.'))
           text.pop_back();
         std::ostringstream reason;
         reason << "stopped at lambda = " << lambda << ": " << text;
