@@ -14,6 +14,8 @@
 #include <nlmech/solvers/anm/anm_solver.h>
 #include <nlmech/solvers/relaxation/kinetic_damping.h>
 
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -71,6 +73,11 @@ namespace nlmech
         prm.declare_entry("Path tolerance", "1e-6", Patterns::Double(0),
                           "ANM corrections between steps only above this relative residual [-].");
         prm.declare_entry("Newton load steps", "10", Patterns::Integer(1), "Load increments for Newton [-].");
+        prm.declare_entry(
+            "Load scales", "", Patterns::Anything(),
+            "After the ANM reaches lambda = 1: other load factors to explore, comma-separated [-]. "
+            "Inside the radius of the series at lambda = 1 a scale costs a polynomial root and a "
+            "series evaluation (paper section 5.1); outside it, a new continuation from lambda = 1.");
         prm.leave_subsection();
       }
 
@@ -126,6 +133,7 @@ namespace nlmech
         anm.residual_tolerance = prm.get_double("Residual tolerance");
         anm.path_tolerance     = prm.get_double("Path tolerance");
         newton_steps           = prm.get_integer("Newton load steps");
+        load_scales            = parse_number_list(prm.get("Load scales"), "Load scales");
         prm.leave_subsection();
         AssertThrow(anm.residual_tolerance > 0 && anm.series_tolerance > 0 && anm.series_tolerance < 1,
                     ExcMessage("The ANM tolerances must be positive (and the series tolerance below 1)."));
@@ -194,6 +202,8 @@ namespace nlmech
                           << result.factorizations << " factorizations, " << result.total_seconds << " s"
                           << std::endl;
             fields.emplace_back("displacement_anm", x_anm - problem.rest_positions);
+            if (result.completed && !load_scales.empty())
+              explore_load_scales(context, problem, x_anm);
             scale = std::max(scale, (x_anm - problem.rest_positions).lpNorm<Eigen::Infinity>());
             if (!result.completed)
               context.partial_reason = "ANM: " + result.stop_reason;
@@ -260,6 +270,47 @@ namespace nlmech
       }
 
     private:
+      /// Section 5.1: other load scales from the series at the solution, or a new continuation.
+      void explore_load_scales(RunContext &context, const HyperelasticProblem &problem,
+                               const Eigen::VectorXd &solution) const
+      {
+        TimerOutput::Scope t(context.timer, "ANM load-scale changes");
+        const AnmSolver    solver(problem.internal, problem.load, anm, problem.elastic.get());
+        const AnmSeries    series = solver.series_at(solution, 1.0);
+        const FreeDofMap   free(problem.internal);
+        const double       g = free.restrict(problem.load).norm();
+        std::ostringstream csv;
+        csv << "load_scale,how,relative_residual,max_displacement_m,wall_time_s\n";
+        for (const double scale : load_scales)
+          {
+            const auto      start = std::chrono::steady_clock::now();
+            const double    a     = series.parameter_for(scale);
+            Eigen::VectorXd x     = solution;
+            std::string     how   = "series";
+            if (std::isfinite(a))
+              x = series.state(a);
+            else
+              {
+                how                    = "continuation";
+                const AnmResult result = solver.solve(x, 1.0, scale);
+                if (!result.completed)
+                  how = "continuation stopped: " + result.stop_reason;
+              }
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const double residual =
+                (free.restrict(problem.internal.gradient(x)) - scale * free.restrict(problem.load)).norm() /
+                g;
+            csv << json_number(scale) << "," << how << "," << json_number(residual) << ","
+                << json_number((x - problem.rest_positions).lpNorm<Eigen::Infinity>()) << ","
+                << json_number(seconds) << "\n";
+            context.pcout << "load scale " << scale << ": " << how << ", relative residual " << residual
+                          << ", " << seconds << " s" << std::endl;
+          }
+        if (context.is_root())
+          write_file_atomically(context.output.file("load_scales.csv"), csv.str());
+      }
+
       MeshParameters                 mesh;
       HyperelasticMaterial           material;
       HyperelasticBoundaryConditions conditions;
@@ -267,6 +318,7 @@ namespace nlmech
       std::set<std::string>          methods;
       AnmSettings                    anm;
       unsigned int                   newton_steps = 10;
+      std::vector<double>            load_scales;
     };
   } // namespace
 

@@ -77,6 +77,79 @@ namespace nlmech
                 dealii::ExcMessage("Every energy term of an ANM model needs Taylor series."));
   }
 
+  AnmSeries AnmSolver::expand(const Eigen::VectorXd &x, const double lambda, const double direction,
+                              const Eigen::VectorXd &previous_x1, const double previous_lambda1,
+                              SparseFactorization &factorization, const FreeDofMap &free,
+                              const Eigen::VectorXd &g, double &series_seconds) const
+  {
+    // The tangent at the series origin, factorised once for every order.
+    factorization.factorize(free.restrict(system.tangent(x)), system.symmetric_tangent());
+    const Eigen::VectorXd xt      = factorization.solve(g);
+    double                lambda1 = 1.0 / std::sqrt(1.0 + xt.squaredNorm());
+    if (previous_x1.size() == 0)
+      lambda1 *= direction;
+    else if ((lambda1 * xt).dot(previous_x1) + lambda1 * previous_lambda1 < 0)
+      lambda1 = -lambda1; // keep going the way the previous series was heading at its end
+    const Eigen::VectorXd x1 = lambda1 * xt;
+
+    const auto series_start = Clock::now();
+    AnmSeries  series;
+    series.x          = {x, free.expand(x1)};
+    series.free_x     = {free.restrict(x), x1};
+    series.lambda     = {lambda, lambda1};
+    double solve_time = 0;
+    for (unsigned int k = 2; k <= settings.order; ++k)
+      {
+        const Eigen::VectorXd f_nl = free.restrict(system.internal_force_series_coefficient(series.x, k));
+        const auto            t0   = Clock::now();
+        const Eigen::VectorXd x_nl = factorization.solve(-f_nl);
+        solve_time += seconds_since(t0);
+        const double          lambda_k = -x_nl.dot(x1) / (xt.dot(x1) + lambda1); // eq. (12)
+        const Eigen::VectorXd xk       = lambda_k * xt + x_nl;                   // eq. (18)
+        series.free_x.push_back(xk);
+        series.x.push_back(free.expand(xk));
+        series.lambda.push_back(lambda_k);
+      }
+    series_seconds += seconds_since(series_start) - solve_time;
+    const double xn = series.free_x.back().norm();
+    series.radius =
+        xn > 0 ? std::pow(settings.series_tolerance * x1.norm() / xn, 1.0 / (settings.order - 1)) : 1e30;
+    return series;
+  }
+
+  Eigen::VectorXd AnmSeries::state(const double a) const
+  {
+    return evaluate_series(x, a);
+  }
+
+  double AnmSeries::load_factor(const double a) const
+  {
+    return evaluate_series(lambda, a);
+  }
+
+  double AnmSeries::parameter_for(const double target) const
+  {
+    // The root of lambda(a) = target nearest to a = 0, searched both ways within the radius.
+    const double        forward  = first_crossing(lambda, target, radius);
+    std::vector<double> mirrored = lambda;
+    for (std::size_t k = 1; k < mirrored.size(); k += 2)
+      mirrored[k] = -mirrored[k]; // lambda(-a)
+    const double backward = first_crossing(mirrored, target, radius);
+    if (forward < 0 && backward < 0)
+      return std::numeric_limits<double>::quiet_NaN();
+    if (backward < 0 || (forward >= 0 && forward <= backward))
+      return forward;
+    return -backward;
+  }
+
+  AnmSeries AnmSolver::series_at(const Eigen::VectorXd &x, const double lambda) const
+  {
+    const FreeDofMap    free(system.n_unknowns(), system.fixed());
+    SparseFactorization factorization;
+    double              seconds = 0;
+    return expand(x, lambda, 1.0, Eigen::VectorXd(), 0.0, factorization, free, free.restrict(load), seconds);
+  }
+
   AnmResult AnmSolver::solve(Eigen::VectorXd &x, const double lambda_start, const double lambda_target) const
   {
     const auto            start = Clock::now();
@@ -117,42 +190,18 @@ namespace nlmech
       {
         for (unsigned int step = 0; step < settings.max_steps; ++step)
           {
-            // The tangent at the series origin, factorised once for every order.
-            factorization.factorize(free.restrict(system.tangent(x)), symmetric);
-            const Eigen::VectorXd xt      = factorization.solve(g);
-            double                lambda1 = 1.0 / std::sqrt(1.0 + xt.squaredNorm());
-            if (previous_x1.size() == 0)
-              lambda1 *= direction_of_target;
-            else if ((lambda1 * xt).dot(previous_x1) + lambda1 * previous_lambda1 < 0)
-              lambda1 = -lambda1; // keep going the way the previous series was heading at its end
-            const Eigen::VectorXd x1 = lambda1 * xt;
-
-            const auto                   series_start = Clock::now();
-            std::vector<Eigen::VectorXd> path         = {x, free.expand(x1)};
-            std::vector<Eigen::VectorXd> free_path    = {free.restrict(x), x1};
-            std::vector<double>          lambdas      = {lambda, lambda1};
-            double                       solve_time   = 0;
-            for (unsigned int k = 2; k <= settings.order; ++k)
-              {
-                const Eigen::VectorXd f_nl = free.restrict(system.internal_force_series_coefficient(path, k));
-                const auto            t0   = Clock::now();
-                const Eigen::VectorXd x_nl = factorization.solve(-f_nl);
-                solve_time += seconds_since(t0);
-                const double          lambda_k = -x_nl.dot(x1) / (xt.dot(x1) + lambda1); // eq. (12)
-                const Eigen::VectorXd xk       = lambda_k * xt + x_nl;                   // eq. (18)
-                free_path.push_back(xk);
-                path.push_back(free.expand(xk));
-                lambdas.push_back(lambda_k);
-              }
-            result.series_seconds += seconds_since(series_start) - solve_time;
+            const AnmSeries series = expand(x, lambda, direction_of_target, previous_x1, previous_lambda1,
+                                            factorization, free, g, result.series_seconds);
+            const std::vector<Eigen::VectorXd> &path      = series.x;
+            const std::vector<Eigen::VectorXd> &free_path = series.free_x;
+            const std::vector<double>          &lambdas   = series.lambda;
+            const Eigen::VectorXd              &x1        = free_path[1];
+            const double                        lambda1   = lambdas[1];
 
             AnmStepRecord record;
-            record.lambda_begin = lambda;
-            const double xn     = free_path.back().norm();
-            record.series_radius =
-                xn > 0 ? std::pow(settings.series_tolerance * x1.norm() / xn, 1.0 / (settings.order - 1))
-                       : 1e30;
-            double a_max = record.series_radius;
+            record.lambda_begin  = lambda;
+            record.series_radius = series.radius;
+            double a_max         = record.series_radius;
             {
               const double inversion = system.first_invalid_along_series(path, a_max);
               if (inversion < a_max)

@@ -81,3 +81,32 @@ TEST(AnmSolver, LimitPointOfStVenantKirchhoffCompression)
   EXPECT_NEAR(result.extreme_lambda * 2 * limit / limit, 1.0, 1e-4);
   EXPECT_TRUE(x.allFinite());
 }
+
+TEST(AnmSolver, LoadScaleChangeFromTheSeriesAtTheSolution)
+{
+  // Paper section 5.1: with the series at the solution (x, 1), another load scale is a polynomial
+  // root and a series evaluation. Compare with fresh ANM solves to that scale.
+  const HyperelasticProblem problem = soft_cantilever(9.81);
+  Eigen::VectorXd           x       = problem.rest_positions;
+  AnmSettings               settings;
+  settings.residual_tolerance = 1e-10;
+  const AnmSolver solver(problem.internal, problem.load, settings, problem.elastic.get());
+  ASSERT_TRUE(solver.solve(x).completed);
+  const AnmSeries series = solver.series_at(x, 1.0);
+  EXPECT_LT((series.state(0) - x).norm(), 1e-14 * x.norm());
+  const FreeDofMap free(problem.internal);
+  for (const double scale : {0.97, 1.03})
+    {
+      const double a = series.parameter_for(scale);
+      ASSERT_TRUE(std::isfinite(a)) << "scale " << scale << " outside the radius " << series.radius;
+      EXPECT_NEAR(series.load_factor(a), scale, 1e-12);
+      const Eigen::VectorXd quick = series.state(a);
+      Eigen::VectorXd       fresh = problem.rest_positions;
+      ASSERT_TRUE(solver.solve(fresh, 0.0, scale).completed);
+      const double deflection = (fresh - problem.rest_positions).lpNorm<Eigen::Infinity>();
+      EXPECT_LT((quick - fresh).lpNorm<Eigen::Infinity>() / deflection, 1e-5) << "scale " << scale;
+      const Eigen::VectorXd residual =
+          free.restrict(problem.internal.gradient(quick)) - scale * free.restrict(problem.load);
+      EXPECT_LT(residual.norm() / free.restrict(problem.load).norm(), 1e-4) << "scale " << scale;
+    }
+}

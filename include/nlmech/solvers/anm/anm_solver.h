@@ -56,6 +56,26 @@ namespace nlmech
     double       seconds = 0;
   };
 
+  /// One ANM series (x(a), lambda(a)) = sum_k a^k (x_k, lambda_k) around a known solution, with the
+  /// radius a_r of eq. (20) within which it is trusted.
+  struct AnmSeries
+  {
+    std::vector<Eigen::VectorXd> x;      // full-length coefficients, x[0] the origin
+    std::vector<Eigen::VectorXd> free_x; // the same on the free unknowns
+    std::vector<double>          lambda; // lambda[0] the origin's load factor
+    double                       radius = 0;
+
+    Eigen::VectorXd state(double a) const;
+    double          load_factor(double a) const;
+    /// The a nearest to 0 with lambda(a) = target inside [-radius, radius]; NaN if there is none
+    /// (then a new continuation is needed). Paper section 5.1: a load-scale change is a polynomial
+    /// root and a series evaluation.
+    double parameter_for(double target) const;
+  };
+
+  class SparseFactorization;
+  class FreeDofMap;
+
   class AnmSolver
   {
   public:
@@ -70,7 +90,16 @@ namespace nlmech
     /// branch that cannot be followed: the result says how far it got and why it stopped.
     AnmResult solve(Eigen::VectorXd &x, double lambda_start = 0, double lambda_target = 1) const;
 
+    /// The series at a known solution (x, lambda), e.g. at lambda = 1 after solve(), for fast
+    /// load-scale changes (section 5.1).
+    AnmSeries series_at(const Eigen::VectorXd &x, double lambda) const;
+
   private:
+    AnmSeries expand(const Eigen::VectorXd &x, double lambda, double direction,
+                     const Eigen::VectorXd &previous_x1, double previous_lambda1,
+                     SparseFactorization &factorization, const FreeDofMap &free, const Eigen::VectorXd &g,
+                     double &series_seconds) const;
+
     std::shared_ptr<const EquilibriumSystem> owned;
     const EquilibriumSystem                 &system;
     Eigen::VectorXd                          load;
