@@ -136,6 +136,66 @@ namespace nlmech
     material.check();
   }
 
+  void HyperelasticMaterialParameters::declare_parameters(ParameterHandler &prm, const double E,
+                                                          const double nu, const double rho)
+  {
+    prm.enter_subsection("Material");
+    prm.declare_entry("Law", "neo-Hookean", Patterns::Selection("neo-Hookean|St.Venant-Kirchhoff"),
+                      "neo-Hookean: W = mu/2 (J^(-2/3) I_c - 3) + kappa/2 (J - 1)^2; St.Venant-Kirchhoff: "
+                      "W = mu E:E + lambda/2 tr(E)^2.");
+    prm.declare_entry("Young's modulus", std::to_string(E), Patterns::Double(),
+                      "Young's modulus E [Pa]; positive.");
+    prm.declare_entry("Poisson's ratio", std::to_string(nu), Patterns::Double(),
+                      "Poisson's ratio nu [-]; in (-1, 0.5).");
+    prm.declare_entry("Density", std::to_string(rho), Patterns::Double(0), "Mass density rho [kg/m^3].");
+    prm.leave_subsection();
+  }
+
+  void HyperelasticMaterialParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Material");
+    material.law            = prm.get("Law") == "neo-Hookean" ? HyperelasticLaw::neo_hookean
+                                                              : HyperelasticLaw::saint_venant_kirchhoff;
+    material.youngs_modulus = prm.get_double("Young's modulus");
+    material.poissons_ratio = prm.get_double("Poisson's ratio");
+    material.density        = prm.get_double("Density");
+    prm.leave_subsection();
+    material.check();
+  }
+
+  std::vector<std::pair<std::string, Tensor<1, 3>>> parse_group_vectors(const std::string &text,
+                                                                        const std::string &entry)
+  {
+    std::vector<std::pair<std::string, Tensor<1, 3>>> out;
+    for (const auto &item : Utilities::split_string_list(text, ';'))
+      if (!item.empty())
+        {
+          const auto parts = Utilities::split_string_list(item, ':');
+          AssertThrow(parts.size() == 2 && !parts[0].empty(),
+                      ExcMessage("The entry <" + entry + "> must read `group: v_x, v_y, v_z; ...`; <" + item +
+                                 "> does not."));
+          out.emplace_back(parts[0], parse_vector<3>(parts[1], entry));
+        }
+    return out;
+  }
+
+  std::vector<std::pair<Point<3>, Tensor<1, 3>>> parse_point_vectors(const std::string &text,
+                                                                     const std::string &entry)
+  {
+    std::vector<std::pair<Point<3>, Tensor<1, 3>>> out;
+    for (const auto &item : Utilities::split_string_list(text, ';'))
+      if (!item.empty())
+        {
+          const auto parts = Utilities::split_string_list(item, ':');
+          AssertThrow(parts.size() == 2, ExcMessage("The entry <" + entry +
+                                                    "> must read `x, y, z: f_x, f_y, f_z; "
+                                                    "...`; <" +
+                                                    item + "> does not."));
+          out.emplace_back(Point<3>(parse_vector<3>(parts[0], entry)), parse_vector<3>(parts[1], entry));
+        }
+    return out;
+  }
+
   void DiscretizationParameters::declare_parameters(ParameterHandler &prm, const unsigned int default_degree)
   {
     prm.enter_subsection("Discretization");

@@ -62,14 +62,7 @@ namespace nlmech
       static void declare_parameters(ParameterHandler &prm)
       {
         MeshParameters::declare_parameters(prm, NLMECH_SOURCE_DIR "/meshes/cantilever.geo", 0.05);
-        prm.enter_subsection("Material");
-        prm.declare_entry("Law", "neo-Hookean", Patterns::Selection("neo-Hookean|St.Venant-Kirchhoff"),
-                          "Material law of the fabricated object.");
-        prm.declare_entry("Young's modulus", "1e5", Patterns::Double(), "Young's modulus E [Pa]; positive.");
-        prm.declare_entry("Poisson's ratio", "0.45", Patterns::Double(),
-                          "Poisson's ratio nu [-]; in (-1, 0.5).");
-        prm.declare_entry("Density", "1100", Patterns::Double(0), "Mass density rho [kg/m^3].");
-        prm.leave_subsection();
+        HyperelasticMaterialParameters::declare_parameters(prm, 1e5, 0.45, 1100);
         prm.enter_subsection("Supports");
         prm.declare_entry(
             "Clamped groups", "clamped", Patterns::Anything(),
@@ -100,14 +93,8 @@ namespace nlmech
       explicit InverseDesignScene(ParameterHandler &prm)
       {
         mesh.parse_parameters(prm);
-        prm.enter_subsection("Material");
-        material.law            = prm.get("Law") == "neo-Hookean" ? HyperelasticLaw::neo_hookean
-                                                                  : HyperelasticLaw::saint_venant_kirchhoff;
-        material.youngs_modulus = prm.get_double("Young's modulus");
-        material.poissons_ratio = prm.get_double("Poisson's ratio");
-        material.density        = prm.get_double("Density");
-        prm.leave_subsection();
-        material.check();
+        material_parameters.parse_parameters(prm);
+        material = material_parameters.material;
         prm.enter_subsection("Supports");
         for (const auto &g : Utilities::split_string_list(prm.get("Clamped groups"), ','))
           if (!g.empty())
@@ -116,16 +103,8 @@ namespace nlmech
         AssertThrow(!supports.empty(),
                     ExcMessage("Inverse design needs at least one clamped (support) group."));
         prm.enter_subsection("Loads");
-        loads.gravity = parse_vector<3>(prm.get("Gravity"), "Gravity");
-        for (const auto &item : Utilities::split_string_list(prm.get("Point loads"), ';'))
-          if (!item.empty())
-            {
-              const auto parts = Utilities::split_string_list(item, ':');
-              AssertThrow(parts.size() == 2,
-                          ExcMessage("Point loads must read `x, y, z: f_x, f_y, f_z; ...`."));
-              loads.point_loads.emplace_back(Point<3>(parse_vector<3>(parts[0], "Point loads")),
-                                             parse_vector<3>(parts[1], "Point loads"));
-            }
+        loads.gravity     = parse_vector<3>(prm.get("Gravity"), "Gravity");
+        loads.point_loads = parse_point_vectors(prm.get("Point loads"), "Point loads");
         prm.leave_subsection();
         prm.enter_subsection("Solver");
         methods                = Utilities::split_string_list(prm.get("Methods"), ',');
@@ -307,13 +286,14 @@ namespace nlmech
       }
 
     private:
-      MeshParameters           mesh;
-      HyperelasticMaterial     material;
-      std::vector<std::string> supports;
-      HyperelasticLoads        loads;
-      std::vector<std::string> methods;
-      AnmSettings              anm;
-      unsigned int             newton_steps = 5;
+      MeshParameters                 mesh;
+      HyperelasticMaterialParameters material_parameters;
+      HyperelasticMaterial           material;
+      std::vector<std::string>       supports;
+      HyperelasticLoads              loads;
+      std::vector<std::string>       methods;
+      AnmSettings                    anm;
+      unsigned int                   newton_steps = 5;
     };
   } // namespace
 

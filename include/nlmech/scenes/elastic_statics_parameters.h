@@ -6,6 +6,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <nlmech/mesh/gmsh_mesh.h>
+#include <nlmech/models/solid/hyperelastic_tet_energy.h>
 #include <nlmech/models/solid/linear_elasticity.h>
 
 #include <string>
@@ -47,6 +48,22 @@ namespace nlmech
     static void declare_parameters(dealii::ParameterHandler &prm, double E, double nu, double rho);
     void        parse_parameters(dealii::ParameterHandler &prm);
   };
+
+  /// subsection Material of the hyperelastic scenes
+  struct HyperelasticMaterialParameters
+  {
+    HyperelasticMaterial material;
+
+    static void declare_parameters(dealii::ParameterHandler &prm, double E, double nu, double rho);
+    void        parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /// "group: t_x, t_y, t_z; ..." -> (group, vector) pairs.
+  std::vector<std::pair<std::string, dealii::Tensor<1, 3>>> parse_group_vectors(const std::string &text,
+                                                                                const std::string &entry);
+  /// "x, y, z: f_x, f_y, f_z; ..." -> (point, vector) pairs.
+  std::vector<std::pair<dealii::Point<3>, dealii::Tensor<1, 3>>>
+  parse_point_vectors(const std::string &text, const std::string &entry);
 
   /// subsection Discretization
   struct DiscretizationParameters

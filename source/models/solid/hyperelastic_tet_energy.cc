@@ -244,37 +244,46 @@ namespace nlmech
     return min_jacobian(x) > 0;
   }
 
-  double first_positive_root_of_cubic(const std::array<double, 4> &c, const double t_max)
+  double first_nonpositive_point(const std::vector<double> &c, const double t_max, const int samples)
   {
     // Sample, then bisect the first sign change: robust for the tiny or vanishing leading terms
-    // that make closed-form cubic roots unstable.
-    auto      p       = [&](double t) { return c[0] + t * (c[1] + t * (c[2] + t * c[3])); };
-    const int samples = 64;
-    double    t0 = 0, p0 = p(0);
+    // that make closed-form roots unstable.
+    auto p = [&](double t) {
+      double v = 0;
+      for (int k = int(c.size()) - 1; k >= 0; --k)
+        v = c[k] + t * v;
+      return v;
+    };
+    double t0 = 0;
     for (int s = 1; s <= samples; ++s)
       {
-        const double t1 = t_max * s / samples, p1 = p(t1);
-        if ((p0 > 0) != (p1 > 0))
+        const double t1 = t_max * s / samples;
+        if (p(t1) <= 0)
           {
             double lo = t0, hi = t1;
             for (int it = 0; it < 60; ++it)
               {
-                const double mid                     = 0.5 * (lo + hi);
-                ((p(mid) > 0) == (p0 > 0) ? lo : hi) = mid;
+                const double mid       = 0.5 * (lo + hi);
+                (p(mid) > 0 ? lo : hi) = mid;
               }
             return lo;
           }
-        t0 = t1, p0 = p1;
+        t0 = t1;
       }
     return t_max;
+  }
+
+  double first_positive_root_of_cubic(const std::array<double, 4> &c, const double t_max)
+  {
+    return first_nonpositive_point({c[0], c[1], c[2], c[3]}, t_max, 64);
   }
 
   double HyperelasticTetTerm::first_inversion_along_series(const std::vector<Eigen::VectorXd> &path,
                                                            const double                        a_max) const
   {
-    using Series              = Sacado::Tay::Taylor<double>;
+    using Series              = TruncatedSeries<32>;
     const auto         &el    = elements();
-    const int           n     = static_cast<int>(path.size()) - 1;
+    const int           n     = std::min<int>(path.size() - 1, Series::capacity - 1);
     double              first = a_max;
     std::vector<double> c(n + 1);
     for (std::size_t e = 0; e < el.n_elements(); ++e)
@@ -283,41 +292,16 @@ namespace nlmech
         std::array<Series, 12> local;
         for (int i = 0; i < 12; ++i)
           {
-            local[i] = Series(n);
+            local[i] = Series::zero(n);
             for (int k = 0; k <= n; ++k)
-              local[i].fastAccessCoeff(k) = path[k][dofs[i]];
+              local[i].coefficient(k) = path[k][dofs[i]];
           }
         Series F[3][3];
         el.deformation_gradient(local, e, F);
         const Series J = HyperelasticTetElements::determinant(F);
         for (int k = 0; k <= n; ++k)
-          c[k] = J.coeff(k);
-        auto p = [&](double a) {
-          double v = 0;
-          for (int k = n; k >= 0; --k)
-            v = c[k] + a * v;
-          return v;
-        };
-        // Sample up to the current bound, then bisect the first sign change.
-        const int samples = 32;
-        double    a0 = 0, p0 = p(0);
-        for (int s = 1; s <= samples; ++s)
-          {
-            const double a1 = first * s / samples, p1 = p(a1);
-            if (p1 <= 0)
-              {
-                double lo = a0, hi = a1;
-                for (int it = 0; it < 50; ++it)
-                  {
-                    const double mid       = 0.5 * (lo + hi);
-                    (p(mid) > 0 ? lo : hi) = mid;
-                  }
-                first = lo;
-                break;
-              }
-            a0 = a1, p0 = p1;
-          }
-        (void)p0;
+          c[k] = J[k];
+        first = first_nonpositive_point(c, first); // det F(a) of this element, up to the bound so far
       }
     return first;
   }

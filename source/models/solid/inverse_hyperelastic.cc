@@ -173,31 +173,11 @@ namespace nlmech
               for (int j = 0; j <= n; ++j)
                 Dm[d][a].coefficient(j) = path[j][dofs[3 * (a + 1) + d]] - path[j][dofs[d]];
             }
-        const Series det = HyperelasticTetElements::determinant(Dm);
-        auto         p   = [&](double a) {
-          double v = 0;
-          for (int j = n; j >= 0; --j)
-            v = det[j] + a * v;
-          return v;
-        };
-        const int samples = 32;
-        double    a0      = 0;
-        for (int s = 1; s <= samples; ++s)
-          {
-            const double a1 = first * s / samples;
-            if (p(a1) <= 0)
-              {
-                double lo = a0, hi = a1;
-                for (int it = 0; it < 50; ++it)
-                  {
-                    const double mid       = 0.5 * (lo + hi);
-                    (p(mid) > 0 ? lo : hi) = mid;
-                  }
-                first = lo;
-                break;
-              }
-            a0 = a1;
-          }
+        const Series        det = HyperelasticTetElements::determinant(Dm);
+        std::vector<double> c(n + 1);
+        for (int j = 0; j <= n; ++j)
+          c[j] = det[j];
+        first = first_nonpositive_point(c, first); // 6 V(a) of this rest element
       }
     return first;
   }

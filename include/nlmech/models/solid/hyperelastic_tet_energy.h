@@ -160,6 +160,10 @@ namespace nlmech
     double min_jacobian(const Eigen::VectorXd &x) const;
   };
 
+  /// Smallest t in (0, t_max] where the polynomial sum_k c[k] t^k (positive at 0) reaches zero:
+  /// sampled at `samples` points, then bisected; t_max if it stays positive.
+  double first_nonpositive_point(const std::vector<double> &c, double t_max, int samples = 32);
+
   /// Smallest root t in (0, t_max] of the cubic c0 + c1 t + c2 t^2 + c3 t^3, or t_max if none.
   double first_positive_root_of_cubic(const std::array<double, 4> &c, double t_max);
 } // namespace nlmech
