@@ -56,6 +56,15 @@ namespace nlmech
       return out.str();
     }
 
+    Eigen::VectorXd target_positions(const RawSimplexMesh<3> &mesh)
+    {
+      Eigen::VectorXd x(3 * mesh.vertices.size());
+      for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+        for (int i = 0; i < 3; ++i)
+          x[3 * v + i] = mesh.vertices[v][i];
+      return x;
+    }
+
     class InverseDesignScene : public Scene
     {
     public:
@@ -87,6 +96,12 @@ namespace nlmech
         prm.declare_entry("Residual tolerance", "1e-9", Patterns::Double(0),
                           "|residual| <= tol |load| at the end [-].");
         prm.declare_entry("Newton load steps", "5", Patterns::Integer(1), "Load increments for Newton [-].");
+        prm.declare_entry(
+            "Load case scales", "", Patterns::Anything(),
+            "Multi-target design (paper section 5.2): further load cases as scale factors of the "
+            "loads, comma-separated [-]. Each case gets its own ANM rest shape; the rest shape "
+            "written is the reduced-basis least-squares one over all cases (with the case 1), "
+            "and multi_target.csv gives each case's forward distance to the target.");
         prm.leave_subsection();
       }
 
@@ -112,6 +127,7 @@ namespace nlmech
         anm.series_tolerance   = prm.get_double("Series tolerance");
         anm.residual_tolerance = prm.get_double("Residual tolerance");
         newton_steps           = prm.get_integer("Newton load steps");
+        load_cases             = parse_number_list(prm.get("Load case scales"), "Load case scales");
         prm.leave_subsection();
       }
 
@@ -234,6 +250,9 @@ namespace nlmech
               }
           }
 
+        if (!load_cases.empty() && uses("anm") && context.partial_reason.empty())
+          rest = multi_target_rest_shape(context, target_mesh, system, on_target.load, rest, conditions);
+
         // Verification: forward from the rest shape under the same loads must return the target.
         double lo[3], hi[3];
         for (int i = 0; i < 3; ++i)
@@ -286,6 +305,53 @@ namespace nlmech
       }
 
     private:
+      /// Section 5.2: one rest shape for the load case 1 and the further `load_cases`.
+      Eigen::VectorXd multi_target_rest_shape(RunContext &context, const RawSimplexMesh<3> &target_mesh,
+                                              const InverseHyperelasticSystem      &system,
+                                              const Eigen::VectorXd                &load,
+                                              const Eigen::VectorXd                &rest_for_case_1,
+                                              const HyperelasticBoundaryConditions &conditions) const
+      {
+        TimerOutput::Scope     t(context.timer, "multi-target design");
+        std::vector<double>    scales = {1.0};
+        std::vector<AnmSeries> series = {AnmSolver(system, load, anm).series_at(rest_for_case_1, 1.0)};
+        for (const double scale : load_cases)
+          {
+            const AnmSolver solver(system, scale * load, anm);
+            Eigen::VectorXd x      = target_positions(target_mesh); // the ANM starts at X = x
+            const AnmResult result = solver.solve(x);
+            AssertThrow(result.completed,
+                        ExcMessage("Multi-target design: the inverse ANM for load case " +
+                                   std::to_string(scale) + " stopped: " + result.stop_reason));
+            series.push_back(solver.series_at(x, 1.0));
+            scales.push_back(scale);
+          }
+        const Eigen::VectorXd combined = reduced_basis_rest_shape(series);
+
+        RawSimplexMesh<3> rest_mesh = target_mesh;
+        for (std::size_t v = 0; v < rest_mesh.vertices.size(); ++v)
+          rest_mesh.vertices[v] = Point<3>(combined[3 * v], combined[3 * v + 1], combined[3 * v + 2]);
+        HyperelasticProblem   forward = make_hyperelastic_problem(rest_mesh, material, conditions, {});
+        const Eigen::VectorXd x       = target_positions(target_mesh);
+        std::ostringstream    csv;
+        csv << "load_case,scale,forward_distance_to_target_m,forward_completed\n";
+        for (std::size_t c = 0; c < scales.size(); ++c)
+          {
+            forward.load      = scales[c] * load;
+            Eigen::VectorXd y = forward.rest_positions;
+            const AnmResult r =
+                AnmSolver(forward.internal, forward.load, anm, forward.elastic.get()).solve(y);
+            csv << c + 1 << "," << json_number(scales[c]) << ","
+                << json_number((y - x).lpNorm<Eigen::Infinity>()) << "," << r.completed << "\n";
+          }
+        if (context.is_root())
+          write_file_atomically(context.output.file("multi_target.csv"), csv.str());
+        context.summary.add_number("load_cases", scales.size());
+        context.pcout << "multi-target design: " << scales.size()
+                      << " load cases combined by the reduced basis" << std::endl;
+        return combined;
+      }
+
       MeshParameters                 mesh;
       HyperelasticMaterialParameters material_parameters;
       HyperelasticMaterial           material;
@@ -294,6 +360,7 @@ namespace nlmech
       std::vector<std::string>       methods;
       AnmSettings                    anm;
       unsigned int                   newton_steps = 5;
+      std::vector<double>            load_cases;
     };
   } // namespace
 

@@ -4,6 +4,8 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <Eigen/QR>
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -140,6 +142,27 @@ namespace nlmech
     if (backward < 0 || (forward >= 0 && forward <= backward))
       return forward;
     return -backward;
+  }
+
+  Eigen::VectorXd reduced_basis_rest_shape(const std::vector<AnmSeries> &series)
+  {
+    AssertThrow(!series.empty(), dealii::ExcMessage("Multi-target design needs at least one target."));
+    const Eigen::Index n_rows = series.front().x.front().size();
+    Eigen::Index       n_cols = 0;
+    for (const auto &s : series)
+      n_cols += s.x.size();
+    Eigen::MatrixXd U(n_rows, n_cols);
+    Eigen::Index    column = 0;
+    Eigen::VectorXd sum    = Eigen::VectorXd::Zero(n_rows);
+    for (const auto &s : series)
+      {
+        for (const auto &coefficient : s.x)
+          U.col(column++) = coefficient;
+        sum += s.x.front();
+      }
+    // Normal equations of sum_t |U q - X_t|^2: U^T U q = U^T (sum_t X_t) / T.
+    const Eigen::VectorXd q = U.colPivHouseholderQr().solve(sum / double(series.size()));
+    return U * q;
   }
 
   AnmSeries AnmSolver::series_at(const Eigen::VectorXd &x, const double lambda) const

@@ -193,3 +193,52 @@ TEST(InverseHyperelastic, AnmAgreesWithNewton)
   EXPECT_GT((rest - x).lpNorm<Eigen::Infinity>(), 5e-3);
   EXPECT_LT((newton - rest).lpNorm<Eigen::Infinity>(), 1e-8 * (rest - x).lpNorm<Eigen::Infinity>());
 }
+
+TEST(InverseHyperelastic, MultiTargetRestShapeByReducedBasis)
+{
+  // Paper section 5.2 on two load cases of one target (the bar straight under g and under 1.5 g):
+  // individual rest shapes, the reduced-basis least-squares rest shape, and the forward results.
+  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}};
+  const RawSimplexMesh<3>    mesh     = read_simplex_mesh<3>(options, 3);
+  const HyperelasticMaterial material = silicone(1e6);
+  HyperelasticLoads          loads;
+  loads.gravity = Tensor<1, 3>({0, 0, -9.81});
+  HyperelasticBoundaryConditions conditions;
+  conditions.clamped                = {"clamped"};
+  const Eigen::VectorXd           g = make_hyperelastic_problem(mesh, material, conditions, loads).load;
+  const Eigen::VectorXd           x = positions(mesh);
+  const InverseHyperelasticSystem system(mesh, x, material, vertices_of(mesh, "clamped"));
+  AnmSettings                     settings;
+  settings.residual_tolerance = 1e-10;
+  std::vector<AnmSeries>       series;
+  std::vector<Eigen::VectorXd> individual;
+  for (const double scale : {1.0, 1.5})
+    {
+      const Eigen::VectorXd load = scale * g;
+      const AnmSolver       solver(system, load, settings);
+      Eigen::VectorXd       rest = x;
+      ASSERT_TRUE(solver.solve(rest).completed);
+      individual.push_back(rest);
+      series.push_back(solver.series_at(rest, 1.0));
+    }
+  const Eigen::VectorXd combined = reduced_basis_rest_shape(series);
+  EXPECT_LT((combined - 0.5 * (individual[0] + individual[1])).norm(), 1e-8 * combined.norm());
+
+  // Forward from the combined rest shape: each case misses its target, by less than the distance
+  // between the two individual rest shapes.
+  RawSimplexMesh<3> rest_mesh = mesh;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    rest_mesh.vertices[v] = Point<3>(combined[3 * v], combined[3 * v + 1], combined[3 * v + 2]);
+  HyperelasticProblem forward = make_hyperelastic_problem(rest_mesh, material, conditions, {});
+  const double        spread  = (individual[0] - individual[1]).lpNorm<Eigen::Infinity>();
+  for (const double scale : {1.0, 1.5})
+    {
+      forward.load      = scale * g;
+      Eigen::VectorXd y = forward.rest_positions;
+      ASSERT_TRUE(
+          AnmSolver(forward.internal, forward.load, settings, forward.elastic.get()).solve(y).completed);
+      const double miss = (y - x).lpNorm<Eigen::Infinity>();
+      EXPECT_GT(miss, 1e-6);
+      EXPECT_LT(miss, spread);
+    }
+}

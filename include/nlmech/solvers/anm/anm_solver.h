@@ -73,6 +73,13 @@ namespace nlmech
     double parameter_for(double target) const;
   };
 
+  /// Paper section 5.2: one rest shape for several targets. U gathers the series coefficients
+  /// X_{t,0..n} of every target's solution; the rest shape is U q with q minimising
+  /// sum_t |U q - X_t|^2 (a small dense least-squares solve, Householder QR). Since every X_t = X_{t,0}
+  /// is a column of U, the minimiser is the mean of the X_t; computing it through U keeps the
+  /// paper's formulation and checks that claim (see the test).
+  Eigen::VectorXd reduced_basis_rest_shape(const std::vector<AnmSeries> &series_at_solutions);
+
   class SparseFactorization;
   class FreeDofMap;
 
