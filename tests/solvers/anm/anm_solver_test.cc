@@ -110,3 +110,26 @@ TEST(AnmSolver, LoadScaleChangeFromTheSeriesAtTheSolution)
       EXPECT_LT(residual.norm() / free.restrict(problem.load).norm(), 1e-4) << "scale " << scale;
     }
 }
+
+TEST(AnmSolver, LoadDirectionChangeFromAKnownSolution)
+{
+  // From the solution under gravity along -z, continue to gravity along -z plus a sideways pull
+  // (a new load direction) with the ANM on the load-shifted system; compare with a fresh solve.
+  const HyperelasticProblem problem = soft_cantilever(9.81);
+  AnmSettings               settings;
+  settings.residual_tolerance = 1e-10;
+  Eigen::VectorXd x           = problem.rest_positions;
+  ASSERT_TRUE(AnmSolver(problem.internal, problem.load, settings, problem.elastic.get()).solve(x).completed);
+
+  Eigen::VectorXd new_load = problem.load;
+  for (Eigen::Index i = 1; i < new_load.size(); i += 3)
+    new_load[i] = 0.5 * problem.load[i + 1]; // y component: half the weight, sideways
+  const ModelEquilibrium  forward(problem.internal, problem.elastic.get());
+  const LoadShiftedSystem shifted(forward, problem.load);
+  ASSERT_TRUE(AnmSolver(shifted, new_load - problem.load, settings).solve(x).completed);
+
+  Eigen::VectorXd fresh = problem.rest_positions;
+  ASSERT_TRUE(AnmSolver(problem.internal, new_load, settings, problem.elastic.get()).solve(fresh).completed);
+  const double deflection = (fresh - problem.rest_positions).lpNorm<Eigen::Infinity>();
+  EXPECT_LT((x - fresh).lpNorm<Eigen::Infinity>() / deflection, 1e-8);
+}

@@ -66,4 +66,45 @@ namespace nlmech
     const Model               &model;
     const HyperelasticTetTerm *guard;
   };
+  /// r(q) - g_known: continuing from a solution under g_known towards another load g_new is the
+  /// ANM on this system with the load g_new - g_known (a load-direction change from a known
+  /// solution, paper section 5.1). Tangent, series of order >= 1 and validity are those of `base`.
+  class LoadShiftedSystem : public EquilibriumSystem
+  {
+  public:
+    LoadShiftedSystem(const EquilibriumSystem &base, const Eigen::VectorXd &known_load)
+        : base(base)
+        , known_load(known_load)
+    {
+    }
+    std::size_t                          n_unknowns() const override { return base.n_unknowns(); }
+    const std::map<std::size_t, double> &fixed() const override { return base.fixed(); }
+    Eigen::VectorXd                      internal_force(const Eigen::VectorXd &q) const override
+    {
+      return base.internal_force(q) - known_load;
+    }
+    Eigen::SparseMatrix<double> tangent(const Eigen::VectorXd &q) const override { return base.tangent(q); }
+    bool                        symmetric_tangent() const override { return base.symmetric_tangent(); }
+    Eigen::VectorXd             internal_force_series_coefficient(const std::vector<Eigen::VectorXd> &path,
+                                                                  unsigned int                        k) const override
+    {
+      Eigen::VectorXd c = base.internal_force_series_coefficient(path, k);
+      if (k == 0)
+        c -= known_load;
+      return c;
+    }
+    bool   is_valid(const Eigen::VectorXd &q) const override { return base.is_valid(q); }
+    double max_safe_step(const Eigen::VectorXd &q, const Eigen::VectorXd &dq) const override
+    {
+      return base.max_safe_step(q, dq);
+    }
+    double first_invalid_along_series(const std::vector<Eigen::VectorXd> &path, double a_max) const override
+    {
+      return base.first_invalid_along_series(path, a_max);
+    }
+
+  private:
+    const EquilibriumSystem &base;
+    Eigen::VectorXd          known_load;
+  };
 } // namespace nlmech
