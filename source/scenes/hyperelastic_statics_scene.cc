@@ -65,6 +65,10 @@ namespace nlmech
                           "ANM corrections between steps only above this relative residual [-].");
         prm.declare_entry("Newton load steps", "10", Patterns::Integer(1), "Load increments for Newton [-].");
         prm.declare_entry(
+            "Pade approximants", "false", Patterns::Bool(),
+            "Follow the branch with Pade approximants (common denominator) where they reach further "
+            "than the series; anm_steps.csv gives both radii per step.");
+        prm.declare_entry(
             "Load scales", "", Patterns::Anything(),
             "After the ANM reaches lambda = 1: other load factors to explore, comma-separated [-]. "
             "Inside the radius of the series at lambda = 1 a scale costs a polynomial root and a "
@@ -104,6 +108,7 @@ namespace nlmech
         anm.residual_tolerance = prm.get_double("Residual tolerance");
         anm.path_tolerance     = prm.get_double("Path tolerance");
         newton_steps           = prm.get_integer("Newton load steps");
+        anm.pade               = prm.get_bool("Pade approximants");
         load_scales            = parse_number_list(prm.get("Load scales"), "Load scales");
         prm.leave_subsection();
         AssertThrow(anm.residual_tolerance > 0 && anm.series_tolerance > 0 && anm.series_tolerance < 1,
@@ -157,14 +162,14 @@ namespace nlmech
             context.summary.add_object("anm", s);
             std::ostringstream csv;
             csv << "step,lambda_begin,lambda_end,step_length,series_radius,corrections,relative_residual,"
-                   "limited_by_inversion\n";
+                   "limited_by_inversion,pade_radius,used_pade\n";
             for (std::size_t i = 0; i < result.steps.size(); ++i)
               {
                 const auto &r = result.steps[i];
                 csv << i << "," << json_number(r.lambda_begin) << "," << json_number(r.lambda_end) << ","
                     << json_number(r.step_length) << "," << json_number(r.series_radius) << ","
-                    << r.corrections << "," << json_number(r.residual) << "," << r.limited_by_inversion
-                    << "\n";
+                    << r.corrections << "," << json_number(r.residual) << "," << r.limited_by_inversion << ","
+                    << json_number(r.pade_radius) << "," << r.used_pade << "\n";
               }
             if (context.is_root())
               write_file_atomically(context.output.file("anm_steps.csv"), csv.str());

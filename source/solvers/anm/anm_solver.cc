@@ -8,7 +8,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace nlmech
@@ -32,9 +34,9 @@ namespace nlmech
     }
 
     /// First a in (0, a_max] where lambda(a) crosses target, or a negative number if none.
-    double first_crossing(const std::vector<double> &lambda, double target, double a_max)
+    double first_crossing_of(const std::function<double(double)> &lambda, double target, double a_max)
     {
-      auto      f       = [&](double a) { return evaluate_series(lambda, a) - target; };
+      auto      f       = [&](double a) { return lambda(a) - target; };
       const int samples = 200;
       double    a0 = 0, f0 = f(0);
       if (f0 == 0)
@@ -56,6 +58,51 @@ namespace nlmech
         }
       return -1;
     }
+    double first_crossing(const std::vector<double> &lambda, double target, double a_max)
+    {
+      return first_crossing_of([&](double a) { return evaluate_series(lambda, a); }, target, a_max);
+    }
+
+    /// Rational (Pade) approximants with a common denominator of the series increments
+    /// v(a) = sum_{k=1}^n a^k v_k, v_k = (x_k, lambda_k) (Cochelin, Damil, Potier-Ferry 1994): the
+    /// denominator D(a) = sum_{i=0}^m d_i a^i (d_0 = 1) makes D v - P vanish to order m + 1 in the
+    /// least-squares sense, min |v_{m+1} + sum_{i=1}^m d_i v_{m+1-i}|, and
+    /// P(a) = sum_{k=1}^m a^k sum_{i=0}^{k-1} d_i v_{k-i}.
+    struct Pade
+    {
+      std::vector<double>          d;      // d_0 .. d_m
+      std::vector<Eigen::VectorXd> x;      // numerator coefficients of the free unknowns, 0..m
+      std::vector<double>          lambda; // numerator coefficients of lambda, 0..m
+
+      Pade(const std::vector<Eigen::VectorXd> &vx, const std::vector<double> &vl, int m)
+      {
+        const Eigen::Index n = vx[1].size() + 1;
+        Eigen::MatrixXd    M(n, m);
+        Eigen::VectorXd    rhs(n);
+        for (int i = 1; i <= m; ++i)
+          {
+            M.col(i - 1).head(n - 1) = vx[m + 1 - i];
+            M(n - 1, i - 1)          = vl[m + 1 - i];
+          }
+        rhs.head(n - 1)          = -vx[m + 1];
+        rhs(n - 1)               = -vl[m + 1];
+        const Eigen::VectorXd dd = M.colPivHouseholderQr().solve(rhs);
+        d                        = {1.0};
+        for (int i = 0; i < m; ++i)
+          d.push_back(dd[i]);
+        x.assign(m + 1, Eigen::VectorXd::Zero(n - 1));
+        lambda.assign(m + 1, 0.0);
+        for (int k = 1; k <= m; ++k)
+          for (int i = 0; i <= k - 1; ++i)
+            {
+              x[k] += d[i] * vx[k - i];
+              lambda[k] += d[i] * vl[k - i];
+            }
+      }
+      double          denominator(double a) const { return evaluate_series(d, a); }
+      Eigen::VectorXd increment(double a) const { return evaluate_series(x, a) / denominator(a); }
+      double          lambda_increment(double a) const { return evaluate_series(lambda, a) / denominator(a); }
+    };
   } // namespace
 
   AnmSolver::AnmSolver(const EquilibriumSystem &system, const Eigen::VectorXd &load,
@@ -233,7 +280,42 @@ namespace nlmech
                   record.limited_by_inversion = true;
                 }
             }
-            const double landing = first_crossing(lambdas, lambda_target, a_max);
+            // The representation of the branch: the series, or Pade approximants where they reach
+            // further (poles of the denominator excluded).
+            std::function<Eigen::VectorXd(double)> state_at = [&](double a) {
+              return evaluate_series(path, a);
+            };
+            std::function<double(double)> lambda_at = [&](double a) { return evaluate_series(lambdas, a); };
+            std::shared_ptr<Pade>         pade, pade_lower;
+            if (settings.pade && settings.order >= 4)
+              {
+                pade         = std::make_shared<Pade>(free_path, lambdas, settings.order - 1);
+                pade_lower   = std::make_shared<Pade>(free_path, lambdas, settings.order - 2);
+                double reach = 0;
+                for (double a = record.series_radius / 4; a <= 5 * record.series_radius; a *= 1.02)
+                  {
+                    if (pade->denominator(a) < 0.05 || pade_lower->denominator(a) < 0.05)
+                      break; // approaching a pole
+                    const Eigen::VectorXd high = pade->increment(a), low = pade_lower->increment(a);
+                    const double          dl = pade->lambda_increment(a) - pade_lower->lambda_increment(a);
+                    if (std::sqrt((high - low).squaredNorm() + dl * dl) >
+                        settings.series_tolerance *
+                            std::sqrt(high.squaredNorm() + std::pow(pade->lambda_increment(a), 2)))
+                      break;
+                    reach = a;
+                  }
+                record.pade_radius = reach;
+                if (reach > a_max && !record.limited_by_inversion)
+                  {
+                    a_max    = reach;
+                    state_at = [&, x0 = x](double a) {
+                      return Eigen::VectorXd(x0 + free.expand(pade->increment(a)));
+                    };
+                    lambda_at        = [&, l0 = lambda](double a) { return l0 + pade->lambda_increment(a); };
+                    record.used_pade = true;
+                  }
+              }
+            const double landing = first_crossing_of(lambda_at, lambda_target, a_max);
             bool         final   = landing >= 0;
             double       a       = final ? landing : a_max;
 
@@ -244,8 +326,8 @@ namespace nlmech
               {
                 if (a < settings.min_step)
                   break;
-                trial               = evaluate_series(path, a);
-                double lambda_trial = evaluate_series(lambdas, a);
+                trial               = state_at(a);
+                double lambda_trial = lambda_at(a);
                 if (final)
                   lambda_trial = lambda_target;
                 record.corrections       = 0;
@@ -312,7 +394,7 @@ namespace nlmech
             // The extreme load factor along the whole step: the series may pass a limit point mid-step.
             for (int sample = 1; sample <= 1000; ++sample)
               {
-                const double l = evaluate_series(lambdas, a * sample / 1000.0);
+                const double l = lambda_at(a * sample / 1000.0);
                 highest_lambda =
                     direction_of_target > 0 ? std::max(highest_lambda, l) : std::min(highest_lambda, l);
               }

@@ -133,3 +133,32 @@ TEST(AnmSolver, LoadDirectionChangeFromAKnownSolution)
   const double deflection = (fresh - problem.rest_positions).lpNorm<Eigen::Infinity>();
   EXPECT_LT((x - fresh).lpNorm<Eigen::Infinity>() / deflection, 1e-8);
 }
+
+TEST(AnmSolver, PadeApproximantsLengthenSteps)
+{
+  // The same branch with and without Pade approximants: same answer, longer steps with them.
+  const HyperelasticProblem problem = soft_cantilever(9.81 * 3);
+  AnmSettings               settings;
+  settings.residual_tolerance = 1e-10;
+  Eigen::VectorXd plain       = problem.rest_positions;
+  const AnmResult without =
+      AnmSolver(problem.internal, problem.load, settings, problem.elastic.get()).solve(plain);
+  settings.pade        = true;
+  Eigen::VectorXd pade = problem.rest_positions;
+  const AnmResult with =
+      AnmSolver(problem.internal, problem.load, settings, problem.elastic.get()).solve(pade);
+  ASSERT_TRUE(without.completed) << without.stop_reason;
+  ASSERT_TRUE(with.completed) << with.stop_reason;
+  const double deflection = (plain - problem.rest_positions).lpNorm<Eigen::Infinity>();
+  EXPECT_LT((pade - plain).lpNorm<Eigen::Infinity>() / deflection, 1e-8);
+  double reach_series = 0, reach_pade = 0;
+  for (const auto &s : with.steps)
+    {
+      reach_series += s.series_radius / with.steps.size();
+      reach_pade += std::max(s.pade_radius, s.series_radius) / with.steps.size();
+    }
+  std::cout << "steps without Pade: " << without.steps.size() << ", with: " << with.steps.size()
+            << "; mean series radius " << reach_series << ", mean Pade radius " << reach_pade << std::endl;
+  EXPECT_LE(with.steps.size(), without.steps.size());
+  EXPECT_GT(reach_pade, reach_series);
+}

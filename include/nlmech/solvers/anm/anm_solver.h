@@ -26,6 +26,7 @@ namespace nlmech
     unsigned int max_corrections    = 4;
     unsigned int max_steps          = 200;
     double       min_step           = 1e-12; // a step shorter than this counts as a collapse
+    bool         pade               = false; // Pade approximants where they reach further than the series
   };
 
   struct AnmStepRecord
@@ -36,6 +37,8 @@ namespace nlmech
     unsigned int corrections          = 0;
     double       residual             = 0; // |R_free| / |g_free| after the corrections
     bool         limited_by_inversion = false;
+    double       pade_radius          = 0; // how far the Pade approximants were trusted (0: not used)
+    bool         used_pade            = false;
   };
 
   struct AnmResult
