@@ -327,6 +327,12 @@ namespace nlmech
             scales.push_back(scale);
           }
         const Eigen::VectorXd combined = reduced_basis_rest_shape(series);
+        // Second method: the mean of the individual rest shapes (the least squares' minimiser).
+        Eigen::VectorXd mean = Eigen::VectorXd::Zero(combined.size());
+        for (const auto &s : series)
+          mean += s.x.front() / double(series.size());
+        context.summary.add_figure("reduced_basis_minus_mean_relative",
+                                   (combined - mean).norm() / mean.norm(), "1");
 
         RawSimplexMesh<3> rest_mesh = target_mesh;
         for (std::size_t v = 0; v < rest_mesh.vertices.size(); ++v)

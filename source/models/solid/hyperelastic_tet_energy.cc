@@ -42,7 +42,7 @@ namespace nlmech
         for (int a = 0; a < 3; ++a)
           for (int j = 0; j < 3; ++j)
             Dinv[a][j] = inverse[a][j];
-        tets.push_back({c[0], c[1], c[2], c[3]});
+        tets.push_back({{c[0], c[1], c[2], c[3]}});
         rest_shape_inverse.push_back(Dinv);
         volume.push_back(det / 6);
       }
@@ -55,6 +55,27 @@ namespace nlmech
       for (int i = 0; i < 3; ++i)
         d[3 * a + i] = 3 * std::size_t(tets[e][a]) + i;
     return d;
+  }
+
+  void HyperelasticTetElements::add_nodal_forces(const double (&P)[3][3], const std::size_t e,
+                                                 Eigen::VectorXd &out) const
+  {
+    // dE/dx_{a,i} = V sum_l P_il Dinv[a-1][l] for a = 1..3; vertex 0 balances the others.
+    const auto  dofs = this->dofs(e);
+    const auto &Dinv = rest_shape_inverse[e];
+    for (int i = 0; i < 3; ++i)
+      {
+        double balance = 0;
+        for (int a = 1; a < 4; ++a)
+          {
+            double f = 0;
+            for (int l = 0; l < 3; ++l)
+              f += P[i][l] * Dinv[a - 1][l];
+            out[dofs[3 * a + i]] += volume[e] * f;
+            balance += volume[e] * f;
+          }
+        out[dofs[i]] -= balance;
+      }
   }
 
   void
@@ -147,20 +168,7 @@ namespace nlmech
       for (int b = 0; b < 3; ++b)
         P[a][b] = mu * product_k(S, F(3 * a + b)) - mu / 3 * product_k(U, C(3 * a + b)) +
                   kappa * (product_k(J, C(3 * a + b)) - C(3 * a + b)[k]);
-    const auto &Dinv = rest_shape_inverse[e];
-    for (int i = 0; i < 3; ++i)
-      {
-        double balance = 0;
-        for (int a = 1; a < 4; ++a)
-          {
-            double f = 0;
-            for (int l = 0; l < 3; ++l)
-              f += P[i][l] * Dinv[a - 1][l];
-            out[dofs[3 * a + i]] += volume[e] * f;
-            balance += volume[e] * f;
-          }
-        out[dofs[i]] -= balance;
-      }
+    add_nodal_forces(P, e, out);
   }
 
   void HyperelasticTetElements::add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,
@@ -192,22 +200,12 @@ namespace nlmech
           for (int l = 0; l < 3; ++l)
             F[i][l].v.coefficient(j) = Fj[i][l];
       }
-    const Dual  W    = energy_density(F);
-    const auto &Dinv = rest_shape_inverse[e];
-    // dE/dx_{a,i} = V sum_l P_il Dinv[a-1][l] for a = 1..3; vertex 0 balances the others.
+    const Dual W = energy_density(F);
+    double     P[3][3]; // coefficient k of the first Piola stress dW/dF
     for (int i = 0; i < 3; ++i)
-      {
-        double balance = 0;
-        for (int a = 1; a < 4; ++a)
-          {
-            double f = 0;
-            for (int l = 0; l < 3; ++l)
-              f += W.dx[3 * i + l][k] * Dinv[a - 1][l];
-            out[dofs[3 * a + i]] += volume[e] * f;
-            balance += volume[e] * f;
-          }
-        out[dofs[i]] -= balance;
-      }
+      for (int l = 0; l < 3; ++l)
+        P[i][l] = W.dx[3 * i + l][k];
+    add_nodal_forces(P, e, out);
   }
 
   HyperelasticTetTerm::HyperelasticTetTerm(const std::vector<dealii::Point<3>>          &rest,
@@ -332,7 +330,7 @@ namespace nlmech
         const double c2 = 0.5 * (pp + pm) - p0;
         const double c3 = (p2 - 3 * pp + 3 * p0 - pm) / 6.0; // third difference = 3! c3
         const double c1 = pp - p0 - c2 - c3;
-        step            = std::min(step, first_positive_root_of_cubic({p0, c1, c2, c3}, step));
+        step            = std::min(step, first_positive_root_of_cubic({{p0, c1, c2, c3}}, step));
       }
     return step;
   }

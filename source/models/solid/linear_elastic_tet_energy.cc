@@ -32,7 +32,7 @@ namespace nlmech
               g[a + 1][d] = Dinv[a][d];
               g[0][d] -= Dinv[a][d];
             }
-        tets.push_back({c[0], c[1], c[2], c[3]});
+        tets.push_back({{c[0], c[1], c[2], c[3]}});
         shape_gradients.push_back(g);
         volume.push_back(det / 6);
       }

@@ -266,7 +266,6 @@ namespace nlmech
             const std::vector<Eigen::VectorXd> &free_path = series.free_x;
             const std::vector<double>          &lambdas   = series.lambda;
             const Eigen::VectorXd              &x1        = free_path[1];
-            const double                        lambda1   = lambdas[1];
 
             AnmStepRecord record;
             record.lambda_begin  = lambda;

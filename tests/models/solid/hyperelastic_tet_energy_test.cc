@@ -167,8 +167,8 @@ namespace
   std::array<double, 2> uniaxial_stress(double l1, double l2, double mu, double kappa)
   {
     const double J = l1 * l2 * l2, Ic = l1 * l1 + 2 * l2 * l2, s = std::pow(J, -2.0 / 3.0);
-    return {mu * s * (l1 - Ic / (3 * l1)) + kappa * (J - 1) * J / l1,
-            mu * s * (l2 - Ic / (3 * l2)) + kappa * (J - 1) * J / l2};
+    return {{mu * s * (l1 - Ic / (3 * l1)) + kappa * (J - 1) * J / l1,
+             mu * s * (l2 - Ic / (3 * l2)) + kappa * (J - 1) * J / l2}};
   }
 
   /// Stretches (l1, l2) with P11 = traction, P22 = 0, by Newton with a difference Jacobian.
@@ -185,7 +185,7 @@ namespace
         l1 -= (j11 * f0 - j01 * f1) / det;
         l2 -= (-j10 * f0 + j00 * f1) / det;
       }
-    return {l1, l2};
+    return {{l1, l2}};
   }
 } // namespace
 

@@ -123,6 +123,9 @@ namespace nlmech
     /// of O(k^2). Valid while called with k = 2, 3, ... on one path; anything else restarts the cache.
     void add_neo_hookean_series_by_recurrences(const std::vector<Eigen::VectorXd> &path, unsigned int k,
                                                std::size_t e, Eigen::VectorXd &out) const;
+    /// Adds the nodal forces V P grad(phi) of element e for a (series coefficient of the) first
+    /// Piola stress P to `out`.
+    void add_nodal_forces(const double (&P)[3][3], std::size_t e, Eigen::VectorXd &out) const;
     /// Use the recurrences for neo-Hookean (default); false forces the truncated-series kernel.
     bool use_recurrences = true;
 
