@@ -1,4 +1,5 @@
 #include <nlmech/base/atomic_output.h>
+#include <nlmech/base/json.h>
 #include <nlmech/mesh/vertex_field_output.h>
 
 #include <deal.II/base/exceptions.h>
@@ -8,6 +9,8 @@
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/numerics/data_out.h>
+
+#include <sstream>
 
 namespace nlmech
 {
@@ -62,5 +65,22 @@ namespace nlmech
     AtomicFile file(path);
     data_out.write_vtu(file.stream());
     file.commit();
+  }
+} // namespace nlmech
+
+namespace nlmech
+{
+  void write_vertex_displacements_csv(const RawSimplexMesh<3> &mesh, const Eigen::VectorXd &displacement,
+                                      const std::string &path)
+  {
+    AssertThrow(std::size_t(displacement.size()) == 3 * mesh.vertices.size() && displacement.allFinite(),
+                ExcMessage("The displacement is not a finite vertex vector field."));
+    std::ostringstream csv;
+    csv << "x,y,z,u_x,u_y,u_z\n";
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+      csv << json_number(mesh.vertices[v][0]) << "," << json_number(mesh.vertices[v][1]) << ","
+          << json_number(mesh.vertices[v][2]) << "," << json_number(displacement[3 * v]) << ","
+          << json_number(displacement[3 * v + 1]) << "," << json_number(displacement[3 * v + 2]) << "\n";
+    write_file_atomically(path, csv.str());
   }
 } // namespace nlmech

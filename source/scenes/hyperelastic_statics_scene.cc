@@ -12,11 +12,13 @@
 #include <nlmech/models/solid/hyperelastic_model.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
 #include <nlmech/solvers/anm/anm_solver.h>
+#include <nlmech/solvers/newton/nox_newton.h>
 #include <nlmech/solvers/relaxation/kinetic_damping.h>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -50,9 +52,11 @@ namespace nlmech
         prm.leave_subsection();
         prm.enter_subsection("Solver");
         prm.declare_entry(
-            "Methods", "anm", Patterns::MultipleSelection("anm|newton|kinetic-damping"),
+            "Methods", "anm", Patterns::MultipleSelection("anm|newton|newton-nox|kinetic-damping"),
             "Comma-separated, run side by side on the same model: anm (Asymptotic Numerical Method), newton "
-            "(Newton with line search and load stepping), kinetic-damping (implicit Euler dynamic relaxation "
+            "(Newton with line search and load stepping, CHOLMOD), newton-nox (Trilinos NOX line-search "
+            "Newton with load stepping, Amesos KLU/MUMPS; rows distributed over MPI ranks), kinetic-damping "
+            "(implicit Euler dynamic relaxation "
             "with "
             "kinetic damping).");
         prm.declare_entry("ANM order", "20", Patterns::Integer(2, 31),
@@ -203,6 +207,36 @@ namespace nlmech
             fields.emplace_back("displacement_newton", x_newton - problem.rest_positions);
             scale = std::max(scale, (x_newton - problem.rest_positions).lpNorm<Eigen::Infinity>());
           }
+        Eigen::VectorXd x_nox;
+        if (methods.count("newton-nox") && context.partial_reason.empty())
+          {
+            TimerOutput::Scope t(context.timer, "NOX Newton with load stepping");
+            x_nox = problem.rest_positions;
+            NoxNewtonSettings settings;
+            settings.load_steps         = newton_steps;
+            settings.relative_tolerance = anm.residual_tolerance;
+            const ModelEquilibrium system(problem.internal, problem.elastic.get());
+            const auto             energy = [&](const Eigen::VectorXd &q) {
+              return problem.internal.is_valid(q) ? problem.internal.energy(q)
+                                                              : std::numeric_limits<double>::infinity();
+            };
+            const NoxNewtonResult result =
+                solve_equilibrium_with_nox(system, problem.load, x_nox, settings, context.comm, energy);
+            JsonObject s;
+            s.add_number("load_steps", newton_steps);
+            s.add_number("iterations", result.iterations);
+            s.add_number("factorizations", result.factorizations);
+            s.add_number("residual_evaluations", result.residuals);
+            s.add_string("direct_solver", result.direct_solver);
+            s.add_figure("wall_time", result.seconds, "s");
+            s.add_figure("max_displacement", (x_nox - problem.rest_positions).lpNorm<Eigen::Infinity>(), "m");
+            context.summary.add_object("newton_nox", s);
+            context.pcout << "NOX Newton (" << result.direct_solver << "): " << result.iterations
+                          << " iterations in " << newton_steps << " load steps, " << result.seconds << " s"
+                          << std::endl;
+            fields.emplace_back("displacement_newton_nox", x_nox - problem.rest_positions);
+            scale = std::max(scale, (x_nox - problem.rest_positions).lpNorm<Eigen::Infinity>());
+          }
         Eigen::VectorXd x_relaxed;
         if (methods.count("kinetic-damping") && context.partial_reason.empty())
           {
@@ -235,6 +269,12 @@ namespace nlmech
         if (x_anm.size() && x_newton.size())
           context.summary.add_figure("anm_newton_difference_relative",
                                      (x_anm - x_newton).lpNorm<Eigen::Infinity>() / scale, "1");
+        if (x_anm.size() && x_nox.size())
+          context.summary.add_figure("anm_newton_nox_difference_relative",
+                                     (x_anm - x_nox).lpNorm<Eigen::Infinity>() / scale, "1");
+        if (x_newton.size() && x_nox.size())
+          context.summary.add_figure("newton_newton_nox_difference_relative",
+                                     (x_newton - x_nox).lpNorm<Eigen::Infinity>() / scale, "1");
         if (x_anm.size() && x_relaxed.size())
           context.summary.add_figure("anm_kinetic_damping_difference_relative",
                                      (x_anm - x_relaxed).lpNorm<Eigen::Infinity>() / scale, "1");
@@ -242,6 +282,9 @@ namespace nlmech
           {
             TimerOutput::Scope t(context.timer, "output (VTU)");
             write_vertex_fields_vtu(raw, fields, {}, context.output.file("solution.vtu"));
+            if (!fields.empty())
+              write_vertex_displacements_csv(raw, fields.front().second,
+                                             context.output.file("vertex_displacements.csv"));
           }
       }
 

@@ -19,3 +19,11 @@ namespace nlmech
                                const std::vector<std::pair<std::string, Eigen::VectorXd>> &cell_fields,
                                const std::string                                          &path);
 } // namespace nlmech
+
+namespace nlmech
+{
+  /// vertex_displacements.csv: x, y, z [m], u_x, u_y, u_z [m] per vertex (the format of the linear
+  /// scenes, read by tests/mpi/compare_serial_mpi.py).
+  void write_vertex_displacements_csv(const RawSimplexMesh<3> &mesh, const Eigen::VectorXd &displacement,
+                                      const std::string &path);
+} // namespace nlmech
