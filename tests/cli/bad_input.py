@@ -18,6 +18,12 @@ def elastic(mesh, clamped="clamped"):
             f"subsection Boundary conditions\n  set Clamped groups = {clamped}\nend\n")
 
 
+def multi_target(case2):
+    return ("set Scene type = inverse-design\nsubsection Material\n  set Young's modulus = 1e6\nend\n"
+            "subsection Solver\n  set Multi-target design = true\nend\n"
+            f"subsection Load case 2\n{case2}end\n")
+
+
 def cases(source):
     data = os.path.join(source, "tests", "data")
     return {
@@ -35,6 +41,12 @@ def cases(source):
                                    "Poisson's ratio must be below 0.5"),
         "inverted-element": (elastic(os.path.join(data, "inverted_tet.msh")), "has an inverted element 1"),
         "bad-number-list": (CANTILEVER.replace("0.1", "0.1, fine"), "<fine> is not a number"),
+        "multi-target-topology": (multi_target(f"  set Target mesh = {os.path.join(data, 'inverted_tet.msh')}\n"),
+                                  "not the main target's"),
+        "multi-target-moved-support": (multi_target("  set Target displacement = 0.001; 0; 0\n"),
+                                       "is not where the main target has it"),
+        "multi-target-bad-expression": (multi_target("  set Target displacement = 0; 0; sin(\n"),
+                                        "cannot parse the target displacement"),
     }
 
 
