@@ -1,0 +1,116 @@
+#pragma once
+// What is done with a HarmonicBalance: periodic states at one frequency (SUNDIALS KINSOL with a
+// sparse direct solve of the Jacobian 2.3.13), frequency-response curves by pseudo-arclength
+// continuation (2.3.19) with adaptive steps through folds, resonance peaks (local maxima of the
+// amplitude 2.3.14 along the curve, refined on the curve), stability by Floquet multipliers, and
+// the time-domain reference: Newmark (beta = 1/4, gamma = 1/2) to the periodic steady state with
+// the period-difference criterion (2.5.1).
+
+#include <nlmech/solvers/hbm/harmonic_balance.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace nlmech
+{
+  struct PeriodicSolveSettings
+  {
+    double       relative_tolerance = 1e-10; // |h| <= tol * force scale
+    unsigned int max_iterations     = 50;
+  };
+
+  struct PeriodicSolveResult
+  {
+    bool         converged  = false;
+    unsigned int iterations = 0;
+    double       residual   = 0; // |h|_inf / force scale
+    std::string  message;
+  };
+
+  /// Force scale for relative tolerances: the largest of the forcing amplitudes, drive forces and
+  /// the inertial force w^2 m |z|.
+  double force_scale(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega);
+
+  /// Newton (KINSOL, line search, Jacobian every iteration) for h(z, w) = 0 at fixed w.
+  PeriodicSolveResult solve_periodic_state(const HarmonicBalance &hb, Eigen::VectorXd &z, double omega,
+                                           const PeriodicSolveSettings &settings = {});
+
+  struct FloquetResult
+  {
+    double max_multiplier = 0; // largest |mu|
+    bool   stable         = false;
+  };
+  /// Floquet multipliers of the periodic solution: the monodromy matrix of the linearised
+  /// equations over one period (classical RK4, `steps` steps), dense; for up to a few hundred
+  /// free unknowns. Stable when every |mu| <= 1 + tolerance.
+  FloquetResult floquet_stability(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega,
+                                  unsigned int steps = 400, double tolerance = 1e-6);
+
+  struct ContinuationSettings
+  {
+    double                   omega_start = 0, omega_end = 0; // [rad/s]
+    double                   initial_step = 0.01;            // scaled arclength
+    double                   min_step = 1e-6, max_step = 0.1;
+    unsigned int             max_points         = 2000;
+    double                   relative_tolerance = 1e-9;
+    double                   max_amplitude = 0; // stop beyond this (tracked dofs' half range) [m]; 0: none
+    std::vector<std::size_t> tracked_dofs;      // amplitude (2.3.14) of these unknowns
+    bool                     stability              = true;
+    unsigned int             max_free_for_stability = 300;
+    /// Called after every point with (fraction of the frequency range done).
+    std::function<void(double)> progress;
+  };
+
+  struct ResponsePoint
+  {
+    double          omega = 0, amplitude = 0, half_range = 0;
+    double          d_omega_ds     = 0; // sign changes at folds
+    bool            fold           = false;
+    int             stable         = -1; // 1 stable, 0 unstable, -1 not computed
+    double          max_multiplier = 0;
+    unsigned int    iterations     = 0;
+    Eigen::VectorXd z;
+  };
+
+  struct Resonance
+  {
+    double          omega = 0, amplitude = 0;
+    Eigen::VectorXd z;
+  };
+
+  struct FrequencyResponse
+  {
+    std::vector<ResponsePoint> points;
+    std::vector<Resonance>     peaks;
+    bool                       completed = false;
+    std::string                stop_reason;
+    unsigned int               factorizations = 0, rejected_steps = 0;
+  };
+
+  /// Traces the curve from a solution z at omega_start (solved first) towards omega_end.
+  FrequencyResponse trace_frequency_response(const HarmonicBalance &hb, Eigen::VectorXd z,
+                                             const ContinuationSettings &settings);
+
+  struct NewmarkSettings
+  {
+    unsigned int steps_per_period = 1024;
+    double       period_tolerance = 1e-7; // e_p of (2.5.1), relative to the trajectory's size
+    unsigned int max_periods      = 10000;
+    double       newton_tolerance = 1e-12; // relative
+  };
+
+  struct NewmarkResult
+  {
+    bool            converged = false;
+    unsigned int    periods = 0, newton_iterations = 0;
+    double          period_difference = 0; // relative e_p of the last period
+    double          seconds           = 0;
+    Eigen::MatrixXd last_period; // full positions at t_i = i T / steps, i = 0..steps-1
+  };
+
+  /// Integrates the same equations of motion in time from (x0, v0) (full length) until two
+  /// successive periods differ by less than the tolerance.
+  NewmarkResult newmark_steady_state(const HarmonicBalance &hb, double omega, const Eigen::VectorXd &x0,
+                                     const Eigen::VectorXd &v0, const NewmarkSettings &settings = {});
+} // namespace nlmech

@@ -1,0 +1,451 @@
+#include <deal.II/base/exceptions.h>
+
+#include <nlmech/solvers/hbm/harmonic_balance.h>
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace nlmech
+{
+  namespace
+  {
+    constexpr double pi = 3.14159265358979323846;
+
+    /// The matrices' nonzero patterns coincide (same outer and inner index arrays).
+    bool same_pattern(const Eigen::SparseMatrix<double> &a, const Eigen::SparseMatrix<double> &b)
+    {
+      return a.nonZeros() == b.nonZeros() && a.outerSize() == b.outerSize() &&
+             std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.outerSize() + 1, b.outerIndexPtr()) &&
+             std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+    }
+  } // namespace
+
+  /// FFTW plans for all free unknowns at once (one real transform of length N per unknown).
+  struct HarmonicBalance::FftPlans
+  {
+    FftPlans(unsigned int N, std::size_t n)
+        : N(N)
+        , n(n)
+    {
+      real                = fftw_alloc_real(std::max<std::size_t>(1, N * n));
+      complex             = fftw_alloc_complex(std::max<std::size_t>(1, (N / 2 + 1) * n));
+      const int length[1] = {int(N)};
+      forward  = fftw_plan_many_dft_r2c(1, length, int(n), real, nullptr, 1, int(N), complex, nullptr, 1,
+                                        int(N / 2 + 1), FFTW_ESTIMATE);
+      backward = fftw_plan_many_dft_c2r(1, length, int(n), complex, nullptr, 1, int(N / 2 + 1), real, nullptr,
+                                        1, int(N), FFTW_ESTIMATE);
+      AssertThrow(forward && backward, dealii::ExcMessage("FFTW could not plan the AFT transforms."));
+    }
+    ~FftPlans()
+    {
+      fftw_destroy_plan(forward);
+      fftw_destroy_plan(backward);
+      fftw_free(real);
+      fftw_free(complex);
+    }
+    unsigned int  N;
+    std::size_t   n;
+    double       *real;
+    fftw_complex *complex;
+    fftw_plan     forward, backward;
+  };
+
+  HarmonicBalance::HarmonicBalance(const Model &model, const HarmonicBalanceSettings &settings_in,
+                                   std::vector<HarmonicForce> forces_in, std::vector<HarmonicDrive> drives_in)
+      : system(model)
+      , settings(settings_in)
+      , H(settings_in.n_harmonics)
+      , forces(std::move(forces_in))
+      , drives(std::move(drives_in))
+  {
+    AssertThrow(H >= 1, dealii::ExcMessage("Harmonic balance needs at least one harmonic (N_H >= 1)."));
+    N = settings.n_samples;
+    if (N == 0)
+      for (N = 4; N < 4 * H + 2; N *= 2)
+        ;
+    AssertThrow(N >= 2 * H + 1,
+                dealii::ExcMessage(
+                    "The AFT needs N_AFT >= 2 N_H + 1 time samples (Nyquist): N_AFT = " + std::to_string(N) +
+                    " < " + std::to_string(2 * H + 1) + " for N_H = " + std::to_string(H) + "."));
+    AssertThrow(settings.rayleigh_mass >= 0 && settings.rayleigh_stiffness >= 0,
+                dealii::ExcMessage("Rayleigh damping coefficients must not be negative."));
+    const std::size_t n = model.n_unknowns();
+    base                = Eigen::VectorXd::Zero(n);
+    free_index.assign(n, -1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (!model.is_fixed(i))
+        free_index[i] = long(free_dofs.size()), free_dofs.push_back(i);
+    for (const auto &f : model.fixed())
+      base[f.first] = f.second;
+    mass.resize(free_dofs.size());
+    for (std::size_t i = 0; i < free_dofs.size(); ++i)
+      mass[i] = model.lumped_mass()[free_dofs[i]];
+    AssertThrow(mass.minCoeff() > 0, dealii::ExcMessage("Every free unknown needs a positive mass."));
+    for (const auto &f : forces)
+      AssertThrow(f.dof < n && free_index[f.dof] >= 0,
+                  dealii::ExcMessage("A harmonic force acts on a missing or fixed unknown."));
+    for (const auto &d : drives)
+      AssertThrow(d.dof < n && free_index[d.dof] >= 0 && d.stiffness > 0,
+                  dealii::ExcMessage("A driven unknown is missing, fixed, or has no drive stiffness."));
+
+    gamma.resize(N, 2 * H + 1);
+    gamma_inverse.resize(2 * H + 1, N);
+    for (unsigned int i = 0; i < N; ++i)
+      {
+        const double theta  = 2 * pi * i / N;
+        gamma(i, 0)         = 1;
+        gamma_inverse(0, i) = 1.0 / N;
+        for (unsigned int k = 1; k <= H; ++k)
+          {
+            gamma(i, 2 * k - 1)         = std::sin(k * theta);
+            gamma(i, 2 * k)             = std::cos(k * theta);
+            gamma_inverse(2 * k - 1, i) = 2.0 / N * std::sin(k * theta);
+            gamma_inverse(2 * k, i)     = 2.0 / N * std::cos(k * theta);
+          }
+      }
+    if (settings.use_fft)
+      fft = std::make_unique<FftPlans>(N, free_dofs.size());
+  }
+
+  HarmonicBalance::~HarmonicBalance() = default;
+
+  Eigen::VectorXd HarmonicBalance::static_coefficients(const Eigen::VectorXd &x) const
+  {
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(n_unknowns());
+    for (std::size_t i = 0; i < free_dofs.size(); ++i)
+      z[i] = x[free_dofs[i]];
+    return z;
+  }
+
+  Eigen::MatrixXd HarmonicBalance::to_time(const Eigen::VectorXd &c) const
+  {
+    const std::size_t n = free_dofs.size();
+    if (!fft)
+      return Eigen::Map<const Eigen::MatrixXd>(c.data(), n, 2 * H + 1) * gamma.transpose();
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        fftw_complex *X = fft->complex + i * (N / 2 + 1);
+        for (unsigned int k = 0; k <= N / 2; ++k)
+          X[k][0] = X[k][1] = 0;
+        X[0][0] = c[i];
+        for (unsigned int k = 1; k <= H; ++k)
+          X[k][0] = 0.5 * c[(2 * k) * n + i], X[k][1] = -0.5 * c[(2 * k - 1) * n + i];
+      }
+    fftw_execute(fft->backward);
+    Eigen::MatrixXd samples(n, N);
+    for (std::size_t i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < N; ++j)
+        samples(i, j) = fft->real[i * N + j];
+    return samples;
+  }
+
+  Eigen::VectorXd HarmonicBalance::to_frequency(const Eigen::MatrixXd &samples) const
+  {
+    const std::size_t n = free_dofs.size();
+    Eigen::VectorXd   c(n * (2 * H + 1));
+    if (!fft)
+      {
+        Eigen::Map<Eigen::MatrixXd>(c.data(), n, 2 * H + 1) = samples * gamma_inverse.transpose();
+        return c;
+      }
+    for (std::size_t i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < N; ++j)
+        fft->real[i * N + j] = samples(i, j);
+    fftw_execute(fft->forward);
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        const fftw_complex *F = fft->complex + i * (N / 2 + 1);
+        c[i]                  = F[0][0] / N;
+        for (unsigned int k = 1; k <= H; ++k)
+          c[(2 * k - 1) * n + i] = -2.0 * F[k][1] / N, c[(2 * k) * n + i] = 2.0 * F[k][0] / N;
+      }
+    return c;
+  }
+
+  Eigen::MatrixXd HarmonicBalance::sample_positions(const Eigen::VectorXd &z) const
+  {
+    const Eigen::MatrixXd free_samples = to_time(z);
+    Eigen::MatrixXd       x(base.size(), N);
+    for (unsigned int j = 0; j < N; ++j)
+      {
+        x.col(j) = base;
+        for (std::size_t i = 0; i < free_dofs.size(); ++i)
+          x(free_dofs[i], j) = free_samples(i, j);
+      }
+    return x;
+  }
+
+  Eigen::MatrixXd HarmonicBalance::sample_free_velocities(const Eigen::VectorXd &z, const double omega) const
+  {
+    const std::size_t n = free_dofs.size();
+    Eigen::VectorXd   v = Eigen::VectorXd::Zero(z.size());
+    for (unsigned int k = 1; k <= H; ++k)
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          v[(2 * k - 1) * n + i] = -double(k) * omega * z[(2 * k) * n + i]; // sin coefficient of v
+          v[(2 * k) * n + i]     = k * omega * z[(2 * k - 1) * n + i];
+        }
+    return to_time(v);
+  }
+
+  Eigen::MatrixXd HarmonicBalance::positions_at(const Eigen::VectorXd &z, const double omega,
+                                                const std::vector<double> &t) const
+  {
+    const std::size_t n = free_dofs.size();
+    Eigen::MatrixXd   x(base.size(), t.size());
+    for (std::size_t j = 0; j < t.size(); ++j)
+      {
+        x.col(j) = base;
+        for (std::size_t i = 0; i < n; ++i)
+          {
+            double value = z[i];
+            for (unsigned int k = 1; k <= H; ++k)
+              value += z[(2 * k - 1) * n + i] * std::sin(k * omega * t[j]) +
+                       z[(2 * k) * n + i] * std::cos(k * omega * t[j]);
+            x(free_dofs[i], j) = value;
+          }
+      }
+    return x;
+  }
+
+  std::pair<double, double> HarmonicBalance::coefficient(const Eigen::VectorXd &z, const std::size_t i,
+                                                         const unsigned int k) const
+  {
+    const std::size_t n = free_dofs.size();
+    if (k == 0)
+      return {0.0, z[i]};
+    return {z[(2 * k - 1) * n + i], z[(2 * k) * n + i]};
+  }
+
+  Eigen::VectorXd HarmonicBalance::full(const Eigen::VectorXd &free_values) const
+  {
+    Eigen::VectorXd x = base;
+    for (std::size_t i = 0; i < free_dofs.size(); ++i)
+      x[free_dofs[i]] = free_values[i];
+    return x;
+  }
+
+  Eigen::MatrixXd HarmonicBalance::velocities_at(const Eigen::VectorXd &z, const double omega,
+                                                 const std::vector<double> &t) const
+  {
+    const std::size_t n = free_dofs.size();
+    Eigen::MatrixXd   v = Eigen::MatrixXd::Zero(base.size(), t.size());
+    for (std::size_t j = 0; j < t.size(); ++j)
+      for (std::size_t i = 0; i < n; ++i)
+        for (unsigned int k = 1; k <= H; ++k)
+          v(free_dofs[i], j) += k * omega *
+                                (z[(2 * k - 1) * n + i] * std::cos(k * omega * t[j]) -
+                                 z[(2 * k) * n + i] * std::sin(k * omega * t[j]));
+    return v;
+  }
+
+  Eigen::VectorXd HarmonicBalance::force(const Eigen::VectorXd &x, const Eigen::VectorXd &v_full,
+                                         const double theta, Eigen::SparseMatrix<double> *df_dx,
+                                         Eigen::SparseMatrix<double> *df_dv) const
+  {
+    const double     beta = settings.rayleigh_stiffness;
+    const FreeDofMap map(system.n_unknowns(), system.fixed());
+    Eigen::VectorXd  f = -map.restrict(system.gradient(x));
+    AssertThrow(f.allFinite(), dealii::ExcMessage("The internal force is not finite (the motion is too large "
+                                                  "for the model, e.g. an inverted element)."));
+    Eigen::SparseMatrix<double> K;
+    if (beta > 0 || df_dx)
+      K = system.hessian(x);
+    if (beta > 0)
+      f -= beta * map.restrict(Eigen::VectorXd(K * v_full));
+    for (const auto &a : forces)
+      f[free_index[a.dof]] += a.amplitude * std::cos(theta + a.phase);
+    for (const auto &d : drives)
+      f[free_index[d.dof]] -= d.stiffness * (x[d.dof] - d.center - d.amplitude * std::cos(theta + d.phase));
+    if (df_dx)
+      {
+        const std::size_t                   n = free_dofs.size();
+        Eigen::SparseMatrix<double>         drive_stiffness(n, n);
+        std::vector<Eigen::Triplet<double>> t;
+        for (const auto &d : drives)
+          t.emplace_back(free_index[d.dof], free_index[d.dof], d.stiffness);
+        drive_stiffness.setFromTriplets(t.begin(), t.end());
+        // d(K(x) v)/dx along v: central differences of the Hessian (third derivatives of E).
+        Eigen::SparseMatrix<double> dK   = K * 0.0;
+        const double                vmax = v_full.lpNorm<Eigen::Infinity>();
+        if (beta > 0 && vmax > 0)
+          {
+            const double eps = 1e-6 * std::max(1.0, x.lpNorm<Eigen::Infinity>()) / vmax;
+            dK = (system.hessian(x + eps * v_full) - system.hessian(x - eps * v_full)) / (2 * eps);
+          }
+        const Eigen::SparseMatrix<double> Kf = map.restrict(K), dKf = map.restrict(dK);
+        *df_dx = -Kf - beta * dKf - drive_stiffness;
+        *df_dv = -beta * Kf + 0.0 * dKf + 0.0 * drive_stiffness;
+        df_dx->makeCompressed(), df_dv->makeCompressed();
+      }
+    return f;
+  }
+
+  Eigen::MatrixXd HarmonicBalance::sample_forces(const Eigen::VectorXd &z, const double omega,
+                                                 std::vector<Eigen::SparseMatrix<double>> *df_dx,
+                                                 std::vector<Eigen::SparseMatrix<double>> *df_dv,
+                                                 Eigen::MatrixXd                          *df_domega) const
+  {
+    const std::size_t     n = free_dofs.size();
+    const Eigen::MatrixXd x = sample_positions(z);
+    const Eigen::MatrixXd v = sample_free_velocities(z, omega);
+    Eigen::MatrixXd       f(n, N);
+    if (df_dx)
+      df_dx->assign(N, {}), df_dv->assign(N, {});
+    if (df_domega)
+      df_domega->setZero(n, N);
+    const FreeDofMap map(system.n_unknowns(), system.fixed());
+    for (unsigned int j = 0; j < N; ++j)
+      {
+        const Eigen::VectorXd v_full = full(v.col(j)) - base;
+        f.col(j)                     = force(x.col(j), v_full, 2 * pi * j / N, df_dx ? &(*df_dx)[j] : nullptr,
+                         df_dv ? &(*df_dv)[j] : nullptr);
+        if (df_domega && settings.rayleigh_stiffness > 0)
+          df_domega->col(j) = -settings.rayleigh_stiffness *
+                              map.restrict(Eigen::VectorXd(system.hessian(x.col(j)) * v_full)) / omega;
+      }
+    return f;
+  }
+
+  Eigen::VectorXd HarmonicBalance::linear_part(const Eigen::VectorXd &z, const double omega,
+                                               const bool derivative) const
+  {
+    const std::size_t n   = free_dofs.size();
+    Eigen::VectorXd   out = Eigen::VectorXd::Zero(z.size());
+    for (unsigned int k = 1; k <= H; ++k)
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          const double s = z[(2 * k - 1) * n + i], c = z[(2 * k) * n + i];
+          const double m = mass[i], d = settings.rayleigh_mass * mass[i];
+          // (2.3.9): s-row -(k w)^2 m s - k w d c, c-row -(k w)^2 m c + k w d s.
+          const double stiffness   = derivative ? -2.0 * k * k * omega * m : -std::pow(k * omega, 2) * m;
+          const double damping     = derivative ? k * d : k * omega * d;
+          out[(2 * k - 1) * n + i] = stiffness * s - damping * c;
+          out[(2 * k) * n + i]     = stiffness * c + damping * s;
+        }
+    return out;
+  }
+
+  Eigen::VectorXd HarmonicBalance::residual(const Eigen::VectorXd &z, const double omega) const
+  {
+    AssertThrow(omega > 0, dealii::ExcMessage("Harmonic balance needs a positive frequency."));
+    return linear_part(z, omega, false) - to_frequency(sample_forces(z, omega, nullptr, nullptr, nullptr));
+  }
+
+  Eigen::VectorXd HarmonicBalance::d_residual_d_omega(const Eigen::VectorXd &z, const double omega) const
+  {
+    Eigen::MatrixXd df_domega;
+    sample_forces(z, omega, nullptr, nullptr, &df_domega);
+    return linear_part(z, omega, true) - to_frequency(df_domega);
+  }
+
+  Eigen::SparseMatrix<double> HarmonicBalance::jacobian(const Eigen::VectorXd &z, const double omega) const
+  {
+    const std::size_t                        n = free_dofs.size(), B = 2 * H + 1;
+    std::vector<Eigen::SparseMatrix<double>> Kx, Kv;
+    sample_forces(z, omega, &Kx, &Kv, nullptr);
+    for (unsigned int j = 1; j < N; ++j)
+      AssertThrow(same_pattern(Kx[0], Kx[j]) && same_pattern(Kx[0], Kv[j]),
+                  dealii::ExcMessage("Harmonic balance: the tangent's pattern changes over the period."));
+    const Eigen::Index nnz = Kx[0].nonZeros();
+    // C[(p, q), e] = sum_j Ginv[p, j] (Kx_j[e] G[j, q] + Kv_j[e] Gv[j, q]) for every nonzero e.
+    Eigen::MatrixXd Wx(N, nnz), Wv(N, nnz), Px(B * B, N), Pv(B * B, N);
+    for (unsigned int j = 0; j < N; ++j)
+      {
+        Wx.row(j)          = Eigen::Map<const Eigen::RowVectorXd>(Kx[j].valuePtr(), nnz);
+        Wv.row(j)          = Eigen::Map<const Eigen::RowVectorXd>(Kv[j].valuePtr(), nnz);
+        const double theta = 2 * pi * j / N;
+        for (std::size_t q = 0; q < B; ++q)
+          {
+            const unsigned int k  = (q + 1) / 2;
+            const double       gv = q == 0 ? 0.0
+                                           : (q % 2 == 1 ? k * omega * std::cos(k * theta)
+                                                         : -double(k) * omega * std::sin(k * theta));
+            for (std::size_t p = 0; p < B; ++p)
+              Px(p * B + q, j)               = gamma_inverse(p, j) * gamma(j, q),
+                            Pv(p * B + q, j) = gamma_inverse(p, j) * gv;
+          }
+      }
+    const Eigen::MatrixXd C = Px * Wx + Pv * Wv;
+
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(std::size_t(nnz) * B * B + 4 * n * H);
+    Eigen::Index e = 0;
+    for (Eigen::Index col = 0; col < Kx[0].outerSize(); ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(Kx[0], col); it; ++it, ++e)
+        for (std::size_t p = 0; p < B; ++p)
+          for (std::size_t q = 0; q < B; ++q)
+            t.emplace_back(p * n + it.row(), q * n + it.col(), -C(p * B + q, e));
+    for (unsigned int k = 1; k <= H; ++k)
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          const std::size_t s = (2 * k - 1) * n + i, c = (2 * k) * n + i;
+          const double      m = mass[i], d = settings.rayleigh_mass * mass[i];
+          t.emplace_back(s, s, -std::pow(k * omega, 2) * m);
+          t.emplace_back(c, c, -std::pow(k * omega, 2) * m);
+          t.emplace_back(s, c, -double(k) * omega * d);
+          t.emplace_back(c, s, k * omega * d);
+        }
+    Eigen::SparseMatrix<double> J(n * B, n * B);
+    J.setFromTriplets(t.begin(), t.end());
+    J.makeCompressed();
+    return J;
+  }
+
+  double HarmonicBalance::amplitude(const Eigen::VectorXd &z, const double omega,
+                                    const std::vector<std::size_t> &dofs, Eigen::VectorXd *gradient,
+                                    const unsigned int quadrature) const
+  {
+    (void)omega; // A = integral of |v| dt over T = 2 pi / w does not depend on w at fixed z
+    const std::size_t n = free_dofs.size();
+    if (gradient)
+      gradient->setZero(z.size());
+    double total = 0;
+    for (unsigned int j = 0; j < quadrature; ++j)
+      {
+        const double        theta = 2 * pi * j / quadrature;
+        std::vector<double> v(dofs.size(), 0.0);
+        double              speed2 = 0;
+        for (std::size_t d = 0; d < dofs.size(); ++d)
+          {
+            const long i = free_index[dofs[d]];
+            if (i < 0)
+              continue;
+            for (unsigned int k = 1; k <= H; ++k)
+              v[d] += k * (z[(2 * k - 1) * n + i] * std::cos(k * theta) -
+                           z[(2 * k) * n + i] * std::sin(k * theta));
+            speed2 += v[d] * v[d];
+          }
+        const double speed = std::sqrt(speed2);
+        total += 2 * pi / quadrature * speed; // |v| dt with v = w (...) and dt = dtheta / w
+        if (gradient && speed > 0)
+          for (std::size_t d = 0; d < dofs.size(); ++d)
+            {
+              const long i = free_index[dofs[d]];
+              if (i < 0)
+                continue;
+              for (unsigned int k = 1; k <= H; ++k)
+                {
+                  (*gradient)[(2 * k - 1) * n + i] +=
+                      2 * pi / quadrature * v[d] / speed * k * std::cos(k * theta);
+                  (*gradient)[(2 * k) * n + i] -=
+                      2 * pi / quadrature * v[d] / speed * k * std::sin(k * theta);
+                }
+            }
+      }
+    return total;
+  }
+
+  double HarmonicBalance::half_range(const Eigen::VectorXd &z, const double omega,
+                                     const std::size_t dof) const
+  {
+    std::vector<double> t(256);
+    for (std::size_t j = 0; j < t.size(); ++j)
+      t[j] = 2 * pi / omega * j / t.size();
+    const Eigen::MatrixXd x = positions_at(z, omega, t);
+    return 0.5 * (x.row(dof).maxCoeff() - x.row(dof).minCoeff());
+  }
+} // namespace nlmech

@@ -1,0 +1,228 @@
+// Harmonic balance against independent references: finite differences of the residual, the dense
+// DFT, the exact Duffing backbone (complete elliptic integral), the linear steady state, Newmark.
+#include <nlmech/models/dynamics/spring_network.h>
+#include <nlmech/solvers/hbm/periodic_solvers.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+using namespace nlmech;
+
+namespace
+{
+  constexpr double pi = 3.14159265358979323846;
+
+  /// x'' + c x' + k x + k3 x^3 = F cos(w t): vertex 0 fixed at 0, vertex 1 of mass m.
+  Model duffing(double m, double k, double k3)
+  {
+    Model             model(2);
+    SpringElements<1> springs;
+    Spring<1>         s;
+    s.a = 0, s.b = 1, s.stiffness = k, s.cubic = k3, s.axial = true, s.direction = {1.0};
+    springs.springs.push_back(s);
+    model.add_term(std::make_shared<SpringTerm<1>>("spring", springs));
+    model.lumped_mass() = Eigen::VectorXd::Constant(2, m);
+    model.fix(0, 0.0);
+    return model;
+  }
+
+  /// A mass between two pre-stretched geometric springs in the plane (anchors at x = -+1).
+  Model two_spring_mass()
+  {
+    Model             model(6);
+    SpringElements<2> springs;
+    for (unsigned int a : {0u, 2u})
+      {
+        Spring<2> s;
+        s.a = a, s.b = 1, s.stiffness = 2.0, s.cubic = 0.5, s.rest_length = 0.8;
+        springs.springs.push_back(s);
+      }
+    model.add_term(std::make_shared<SpringTerm<2>>("springs", springs));
+    model.lumped_mass() = Eigen::VectorXd::Constant(6, 0.3);
+    model.fix(0, -1.0), model.fix(1, 0.0), model.fix(4, 1.0), model.fix(5, 0.0);
+    return model;
+  }
+
+  Eigen::VectorXd random_coefficients(const HarmonicBalance &hb, double size, unsigned int seed)
+  {
+    std::srand(seed);
+    return size * Eigen::VectorXd::Random(hb.n_unknowns());
+  }
+} // namespace
+
+TEST(HarmonicBalance, JacobianAndFrequencyDerivativeMatchFiniteDifferences)
+{
+  const Model             model = two_spring_mass();
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics        = 3;
+  settings.rayleigh_mass      = 0.2;
+  settings.rayleigh_stiffness = 0.01;
+  const HarmonicBalance hb(model, settings, {{3, 0.4, 0.3}}, {{2, 0.05, 0.1, 50.0, 0.0}});
+  Eigen::VectorXd       z     = random_coefficients(hb, 0.1, 1);
+  const double          omega = 1.7;
+  const Eigen::MatrixXd J     = Eigen::MatrixXd(hb.jacobian(z, omega));
+  double                worst = 0;
+  for (Eigen::Index j = 0; j < z.size(); ++j)
+    {
+      const double    h  = 1e-6;
+      Eigen::VectorXd zp = z, zm = z;
+      zp[j] += h, zm[j] -= h;
+      const Eigen::VectorXd column = (hb.residual(zp, omega) - hb.residual(zm, omega)) / (2 * h);
+      worst                        = std::max(worst, (column - J.col(j)).lpNorm<Eigen::Infinity>() /
+                                                         std::max(1.0, J.lpNorm<Eigen::Infinity>()));
+    }
+  EXPECT_LT(worst, 1e-6);
+  const Eigen::VectorXd dw = (hb.residual(z, omega + 1e-6) - hb.residual(z, omega - 1e-6)) / 2e-6;
+  EXPECT_LT((dw - hb.d_residual_d_omega(z, omega)).lpNorm<Eigen::Infinity>(),
+            1e-6 * std::max(1.0, dw.norm()));
+}
+
+TEST(HarmonicBalance, FftEqualsDenseDft)
+{
+  const Model             model = two_spring_mass();
+  HarmonicBalanceSettings fft, dense;
+  fft.n_harmonics = dense.n_harmonics = 4;
+  fft.n_samples = dense.n_samples = 15; // not a power of two
+  dense.use_fft                   = false;
+  const HarmonicBalance a(model, fft, {{3, 0.4, 0.3}}), b(model, dense, {{3, 0.4, 0.3}});
+  const Eigen::VectorXd z = random_coefficients(a, 0.1, 2);
+  EXPECT_LT((a.residual(z, 2.0) - b.residual(z, 2.0)).lpNorm<Eigen::Infinity>(), 1e-13);
+  EXPECT_LT(
+      (Eigen::MatrixXd(a.jacobian(z, 2.0)) - Eigen::MatrixXd(b.jacobian(z, 2.0))).lpNorm<Eigen::Infinity>(),
+      1e-12);
+}
+
+TEST(HarmonicBalance, RejectsTooFewTimeSamplesAndNoHarmonics)
+{
+  const Model             model = duffing(1, 1, 1);
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics = 5;
+  settings.n_samples   = 10; // < 2 * 5 + 1
+  EXPECT_THROW(HarmonicBalance(model, settings), std::exception);
+  settings.n_harmonics = 0;
+  settings.n_samples   = 0;
+  EXPECT_THROW(HarmonicBalance(model, settings), std::exception);
+}
+
+/// Undamped, unforced Duffing x'' + x + x^3 = 0: the frequency of the free oscillation with c_1
+/// held (phase fixed by s_k = 0), against w = pi sqrt(1 + A^2) / (2 K(m)), m = A^2 / (2 (1 + A^2)).
+double backbone_error(unsigned int H, double c1)
+{
+  const Model             model = duffing(1, 1, 1);
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics = H;
+  const HarmonicBalance hb(model, settings);
+  // Unknowns: c_0, c_2..c_H and w (s_k = 0 by symmetry, c_1 held); equations: the c-rows.
+  Eigen::VectorXd z               = Eigen::VectorXd::Zero(hb.n_unknowns());
+  z[2]                            = c1;
+  double                    omega = std::sqrt(1 + 0.75 * c1 * c1);
+  std::vector<Eigen::Index> rows = {0}, cols = {0};
+  for (unsigned int k = 1; k <= H; ++k)
+    {
+      rows.push_back(2 * k);
+      if (k > 1)
+        cols.push_back(2 * k);
+    }
+  for (int it = 0; it < 30; ++it)
+    {
+      const Eigen::VectorXd h  = hb.residual(z, omega);
+      const Eigen::MatrixXd J  = Eigen::MatrixXd(hb.jacobian(z, omega));
+      const Eigen::VectorXd hw = hb.d_residual_d_omega(z, omega);
+      Eigen::MatrixXd       A(rows.size(), rows.size());
+      Eigen::VectorXd       r(rows.size());
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        {
+          r[i] = h[rows[i]];
+          for (std::size_t j = 0; j < cols.size(); ++j)
+            A(i, j) = J(rows[i], cols[j]);
+          A(i, cols.size()) = hw[rows[i]];
+        }
+      const Eigen::VectorXd d = A.fullPivLu().solve(-r);
+      for (std::size_t j = 0; j < cols.size(); ++j)
+        z[cols[j]] += d[j];
+      omega += d[cols.size()];
+      if (d.norm() < 1e-15)
+        break;
+    }
+  double amplitude = z[0];
+  for (unsigned int k = 1; k <= H; ++k)
+    amplitude += z[2 * k];
+  const double m     = amplitude * amplitude / (2 * (1 + amplitude * amplitude));
+  const double exact = pi * std::sqrt(1 + amplitude * amplitude) / (2 * std::comp_ellint_1(std::sqrt(m)));
+  return std::abs(omega - exact) / exact;
+}
+
+TEST(HarmonicBalance, DuffingBackboneConvergesToTheEllipticIntegralFrequency)
+{
+  const double e1 = backbone_error(1, 1.0), e3 = backbone_error(3, 1.0), e5 = backbone_error(5, 1.0),
+               e7 = backbone_error(7, 1.0);
+  std::printf("backbone relative error at amplitude ~1: N_H=1 %.3g, 3 %.3g, 5 %.3g, 7 %.3g\n", e1, e3, e5,
+              e7);
+  EXPECT_LT(e3, e1);
+  EXPECT_LT(e5, e3);
+  EXPECT_LT(e7, e5);
+  EXPECT_LT(e5, 1e-5);
+  EXPECT_LT(e7, 1e-7);
+}
+
+TEST(HarmonicBalance, SmallForcingMatchesTheLinearSteadyState)
+{
+  const double            m = 1.0, k = 4.0, c = 0.1, F = 1e-6;
+  const Model             model = duffing(m, k, 10.0);
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics   = 3;
+  settings.rayleigh_mass = c / m;
+  const HarmonicBalance hb(model, settings, {{1, F, 0.0}});
+  for (const double omega : {0.5, 1.9, 2.0, 3.0})
+    {
+      Eigen::VectorXd z = Eigen::VectorXd::Zero(hb.n_unknowns());
+      ASSERT_TRUE(solve_periodic_state(hb, z, omega).converged);
+      const auto   sc     = hb.coefficient(z, 0, 1);
+      const double linear = F / std::hypot(k - m * omega * omega, c * omega);
+      EXPECT_NEAR(std::hypot(sc.first, sc.second), linear, 1e-6 * linear) << "w = " << omega;
+    }
+}
+
+TEST(HarmonicBalance, ForcedDuffingAgreesWithNewmarkAndHasTwoFolds)
+{
+  const Model             model = duffing(1.0, 1.0, 1.0);
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics   = 7;
+  settings.rayleigh_mass = 0.1;
+  const HarmonicBalance hb(model, settings, {{1, 0.5, 0.0}});
+  // Off the hysteresis band: one periodic state; Newmark from rest must reach it.
+  const double    omega = 0.6;
+  Eigen::VectorXd z     = Eigen::VectorXd::Zero(hb.n_unknowns());
+  ASSERT_TRUE(solve_periodic_state(hb, z, omega).converged);
+  NewmarkSettings ns;
+  ns.steps_per_period = 2048;
+  ns.period_tolerance = 1e-9;
+  const NewmarkResult nm =
+      newmark_steady_state(hb, omega, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2), ns);
+  ASSERT_TRUE(nm.converged);
+  // Compare over the last period, aligned at t = 0 of a period.
+  std::vector<double> t(ns.steps_per_period);
+  for (unsigned int i = 0; i < t.size(); ++i)
+    t[i] = 2 * pi / omega * i / t.size();
+  const Eigen::MatrixXd x_hbm = hb.positions_at(z, omega, t);
+  const double          size  = hb.half_range(z, omega, 1);
+  const double          error = (x_hbm.row(1) - nm.last_period.row(1)).lpNorm<Eigen::Infinity>() / size;
+  std::printf("forced Duffing at w = %.2f: HBM vs Newmark %.3g relative (%u periods)\n", omega, error,
+              nm.periods);
+  EXPECT_LT(error, 1e-4);
+
+  ContinuationSettings cs;
+  cs.omega_start = 0.5, cs.omega_end = 2.5, cs.tracked_dofs = {1}, cs.max_step = 0.05;
+  const FrequencyResponse frc = trace_frequency_response(hb, Eigen::VectorXd::Zero(hb.n_unknowns()), cs);
+  ASSERT_TRUE(frc.completed) << frc.stop_reason;
+  unsigned int folds = 0, unstable = 0;
+  for (const auto &p : frc.points)
+    folds += p.fold, unstable += p.stable == 0;
+  EXPECT_EQ(folds, 2u);
+  EXPECT_GT(unstable, 0u);
+  ASSERT_EQ(frc.peaks.size(), 1u);
+  std::printf("forced Duffing: %zu points, 2 folds, %u unstable, peak at w = %.4f\n", frc.points.size(),
+              unstable, frc.peaks[0].omega);
+}
