@@ -24,6 +24,10 @@ def multi_target(case2):
             f"subsection Load case 2\n{case2}end\n")
 
 
+def hbm(entries):
+    return f"set Scene type = harmonic-balance\nsubsection Harmonic balance\n{entries}end\n"
+
+
 def cases(source):
     data = os.path.join(source, "tests", "data")
     return {
@@ -41,6 +45,9 @@ def cases(source):
                                    "Poisson's ratio must be below 0.5"),
         "inverted-element": (elastic(os.path.join(data, "inverted_tet.msh")), "has an inverted element 1"),
         "bad-number-list": (CANTILEVER.replace("0.1", "0.1, fine"), "<fine> is not a number"),
+        "hbm-no-harmonics": (hbm("  set Harmonics = 0\n"), "Harmonics must be at least 1"),
+        "hbm-too-few-samples": (hbm("  set Harmonics = 5\n  set Time samples = 8\n"), "at least 2 N_H + 1"),
+        "hbm-negative-frequency": (hbm("  set Frequency range = -1, 2\n"), "two different positive frequencies"),
         "multi-target-topology": (multi_target(f"  set Target mesh = {os.path.join(data, 'inverted_tet.msh')}\n"),
                                   "not the main target's"),
         "multi-target-moved-support": (multi_target("  set Target displacement = 0.001; 0; 0\n"),

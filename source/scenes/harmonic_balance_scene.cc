@@ -1,0 +1,313 @@
+// Scene "harmonic-balance": periodic steady states of a small nonlinear oscillator (a Duffing
+// spring, or a mass between two geometrically nonlinear springs) under harmonic forcing, by the
+// harmonic balance method: the frequency-response curve by continuation with folds, stability and
+// resonance peaks, and a Newmark run to steady state at chosen frequencies as the time-domain check.
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
+#include <nlmech/base/atomic_output.h>
+#include <nlmech/base/json.h>
+#include <nlmech/base/progress.h>
+#include <nlmech/base/run_context.h>
+#include <nlmech/base/scene.h>
+#include <nlmech/models/dynamics/spring_network.h>
+#include <nlmech/scenes/elastic_statics_parameters.h>
+#include <nlmech/solvers/hbm/periodic_solvers.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+namespace nlmech
+{
+  using namespace dealii;
+
+  namespace
+  {
+    constexpr double pi = 3.14159265358979323846;
+
+    class HarmonicBalanceScene : public Scene
+    {
+    public:
+      static void declare_parameters(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Oscillator");
+        prm.declare_entry("Model", "duffing", Patterns::Selection("duffing|two-spring-mass"),
+                          "duffing: m x'' + c x' + k x + k3 x^3 = F cos(w t); two-spring-mass: a mass at the "
+                          "middle between two anchors at distance 2 Span, joined by geometric springs of "
+                          "rest length L0, forced across the span (a geometric nonlinearity).");
+        prm.declare_entry("Mass", "1", Patterns::Double(0), "m [kg].");
+        prm.declare_entry("Stiffness", "1", Patterns::Double(0), "k, per spring [N/m].");
+        prm.declare_entry("Cubic stiffness", "1", Patterns::Double(), "k3, per spring [N/m^3].");
+        prm.declare_entry("Span", "1", Patterns::Double(0), "two-spring-mass: half the anchor distance [m].");
+        prm.declare_entry("Rest length", "0.8", Patterns::Double(0), "two-spring-mass: L0 [m].");
+        prm.declare_entry("Rayleigh mass damping", "0.1", Patterns::Double(0),
+                          "D_alpha, D = D_alpha M [1/s].");
+        prm.declare_entry("Rayleigh stiffness damping", "0", Patterns::Double(0),
+                          "D_beta, D += D_beta K(x) [s].");
+        prm.declare_entry("Force amplitude", "0.5", Patterns::Double(0), "F [N].");
+        prm.leave_subsection();
+        prm.enter_subsection("Harmonic balance");
+        prm.declare_entry("Harmonics", "7", Patterns::Integer(), "N_H [-].");
+        prm.declare_entry("Time samples", "0", Patterns::Integer(), "N_AFT >= 2 N_H + 1; 0: automatic [-].");
+        prm.declare_entry("Frequency range", "0.5, 2.5", Patterns::Anything(),
+                          "Start and end of the frequency-response curve [rad/s].");
+        prm.declare_entry("Maximum step", "0.05", Patterns::Double(0),
+                          "Largest continuation step (scaled) [-].");
+        prm.declare_entry("Maximum amplitude", "100", Patterns::Double(0),
+                          "Stop the curve (partial result) beyond this half range [m].");
+        prm.declare_entry("Tolerance", "1e-9", Patterns::Double(0), "|h| relative to the force scale [-].");
+        prm.leave_subsection();
+        prm.enter_subsection("Newmark check");
+        prm.declare_entry(
+            "Frequencies", "", Patterns::Anything(),
+            "Frequencies at which Newmark (beta 1/4, gamma 1/2) from rest is run to the periodic "
+            "steady state and compared with the HBM state reached from rest [rad/s].");
+        prm.declare_entry("Steps per period", "1024", Patterns::Integer(16), "[-].");
+        prm.declare_entry("Period tolerance", "1e-8", Patterns::Double(0),
+                          "e_p of thesis eq. (2.5.1), relative [-].");
+        prm.leave_subsection();
+      }
+
+      explicit HarmonicBalanceScene(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Oscillator");
+        model_kind = prm.get("Model");
+        mass = prm.get_double("Mass"), k = prm.get_double("Stiffness"),
+        k3   = prm.get_double("Cubic stiffness");
+        span = prm.get_double("Span"), rest_length = prm.get_double("Rest length");
+        settings.rayleigh_mass      = prm.get_double("Rayleigh mass damping");
+        settings.rayleigh_stiffness = prm.get_double("Rayleigh stiffness damping");
+        force                       = prm.get_double("Force amplitude");
+        prm.leave_subsection();
+        prm.enter_subsection("Harmonic balance");
+        const long harmonics = prm.get_integer("Harmonics"), samples = prm.get_integer("Time samples");
+        AssertThrow(harmonics >= 1,
+                    ExcMessage("Harmonics must be at least 1 (got " + std::to_string(harmonics) + ")."));
+        AssertThrow(samples >= 0, ExcMessage("Time samples must not be negative."));
+        settings.n_harmonics = unsigned(harmonics), settings.n_samples = unsigned(samples);
+        AssertThrow(settings.n_samples == 0 || settings.n_samples >= 2 * settings.n_harmonics + 1,
+                    ExcMessage("Time samples (N_AFT = " + std::to_string(samples) +
+                               ") must be at least 2 N_H + 1 = " + std::to_string(2 * harmonics + 1) + "."));
+        const auto range = parse_number_list(prm.get("Frequency range"), "Frequency range");
+        AssertThrow(range.size() == 2 && range[0] > 0 && range[1] > 0 && range[0] != range[1],
+                    ExcMessage("Frequency range needs two different positive frequencies [rad/s]."));
+        continuation.omega_start = range[0], continuation.omega_end = range[1];
+        continuation.max_step           = prm.get_double("Maximum step");
+        continuation.max_amplitude      = prm.get_double("Maximum amplitude");
+        continuation.relative_tolerance = prm.get_double("Tolerance");
+        prm.leave_subsection();
+        prm.enter_subsection("Newmark check");
+        check_frequencies = parse_number_list(prm.get("Frequencies"), "Frequencies");
+        for (const double w : check_frequencies)
+          AssertThrow(w > 0, ExcMessage("Newmark check frequencies must be positive."));
+        newmark.steps_per_period = prm.get_integer("Steps per period");
+        newmark.period_tolerance = prm.get_double("Period tolerance");
+        prm.leave_subsection();
+        AssertThrow(mass > 0, ExcMessage("Mass must be positive."));
+      }
+
+      void run(RunContext &context) override
+      {
+        Model                 model   = build_model();
+        std::size_t           tracked = model_kind == "duffing" ? 1 : 3;
+        const HarmonicBalance hb(model, settings, {{tracked, force, 0.0}});
+        context.summary.add_string("model", model_kind);
+        context.summary.add_number("harmonics", settings.n_harmonics);
+        context.summary.add_number("time_samples", hb.n_samples());
+        context.summary.add_number("unknowns", hb.n_unknowns());
+
+        ProgressReporter progress("frequency response", 1.0, context.comm, context.pcout.get_stream());
+        continuation.tracked_dofs = {tracked};
+        double reported           = 0;
+        continuation.progress     = [&](double done) {
+          if (done >= reported + 0.1)
+            progress.report(done), reported = done;
+        };
+        FrequencyResponse frc;
+        {
+          TimerOutput::Scope t(context.timer, "frequency response (HBM continuation)");
+          frc = trace_frequency_response(hb, hb.static_coefficients(rest_state(model)), continuation);
+        }
+        std::ostringstream csv, peaks;
+        csv << "omega,amplitude_A,half_range,stable,fold,max_floquet_multiplier,corrector_iterations\n";
+        unsigned int folds = 0, unstable = 0;
+        for (const auto &p : frc.points)
+          {
+            csv << json_number(p.omega) << "," << json_number(p.amplitude) << "," << json_number(p.half_range)
+                << "," << p.stable << "," << p.fold << "," << json_number(p.max_multiplier) << ","
+                << p.iterations << "\n";
+            folds += p.fold, unstable += p.stable == 0;
+          }
+        peaks << "omega,amplitude_A,half_range\n";
+        for (const auto &p : frc.peaks)
+          peaks << json_number(p.omega) << "," << json_number(p.amplitude) << ","
+                << json_number(hb.half_range(p.z, p.omega, tracked)) << "\n";
+        context.summary.add_number("points", frc.points.size());
+        context.summary.add_number("folds", folds);
+        context.summary.add_number("unstable_points", unstable);
+        context.summary.add_number("resonance_peaks", frc.peaks.size());
+        if (!frc.peaks.empty())
+          {
+            context.summary.add_figure("first_peak_frequency", frc.peaks.front().omega, "rad/s");
+            context.summary.add_figure("first_peak_half_range",
+                                       hb.half_range(frc.peaks.front().z, frc.peaks.front().omega, tracked),
+                                       "m");
+          }
+        context.summary.add_number("continuation_factorizations", frc.factorizations);
+        context.pcout << "frequency response: " << frc.points.size() << " points, " << folds << " folds, "
+                      << frc.peaks.size() << " resonance peak(s)" << std::endl;
+        if (context.is_root())
+          {
+            write_file_atomically(context.output.file("frequency_response.csv"), csv.str());
+            write_file_atomically(context.output.file("resonance_peaks.csv"), peaks.str());
+            plot(context);
+          }
+        if (!frc.completed)
+          {
+            context.partial_reason = "frequency response stopped: " + frc.stop_reason;
+            return;
+          }
+        newmark_checks(context, hb, model, tracked);
+      }
+
+    private:
+      Model build_model() const
+      {
+        if (model_kind == "duffing")
+          {
+            Model             model(2);
+            SpringElements<1> springs;
+            Spring<1>         s;
+            s.a = 0, s.b = 1, s.stiffness = k, s.cubic = k3, s.axial = true, s.direction = {1.0};
+            springs.springs.push_back(s);
+            model.add_term(std::make_shared<SpringTerm<1>>("Duffing spring", springs));
+            model.lumped_mass() = Eigen::VectorXd::Constant(2, mass);
+            model.fix(0, 0.0);
+            return model;
+          }
+        Model             model(6);
+        SpringElements<2> springs;
+        for (unsigned int a : {0u, 2u})
+          {
+            Spring<2> s;
+            s.a = a, s.b = 1, s.stiffness = k, s.cubic = k3, s.rest_length = rest_length;
+            springs.springs.push_back(s);
+          }
+        model.add_term(std::make_shared<SpringTerm<2>>("springs", springs));
+        model.lumped_mass() = Eigen::VectorXd::Constant(6, mass);
+        model.fix(0, -span), model.fix(1, 0.0), model.fix(4, span), model.fix(5, 0.0);
+        return model;
+      }
+
+      Eigen::VectorXd rest_state(const Model &model) const
+      {
+        Eigen::VectorXd x = Eigen::VectorXd::Zero(model.n_unknowns());
+        for (const auto &f : model.fixed())
+          x[f.first] = f.second;
+        return x;
+      }
+
+      void plot(RunContext &context) const
+      {
+        const std::string script  = std::string(NLMECH_SOURCE_DIR) + "/contrib/plot/frequency_response.py";
+        const std::string command = std::string(NLMECH_PYTHON) + " '" + script + "' '" +
+                                    context.output.file("frequency_response.csv") + "' '" +
+                                    context.output.file("frequency_response.png") +
+                                    "' 'HBM frequency response (" + model_kind + ")' '" +
+                                    context.output.file("resonance_peaks.csv") + "'";
+        if (std::system(command.c_str()) != 0)
+          std::cerr << "nlmech: warning: the frequency-response plot could not be drawn (python3/matplotlib)."
+                    << std::endl;
+      }
+
+      /// HBM state reached from rest (Newton from the linear response) against Newmark from rest.
+      void newmark_checks(RunContext &context, const HarmonicBalance &hb, const Model &model,
+                          std::size_t tracked) const
+      {
+        if (check_frequencies.empty())
+          return;
+        TimerOutput::Scope t(context.timer, "Newmark checks");
+        std::ostringstream table, trajectories;
+        table << "omega,hbm_half_range,newmark_half_range,max_difference_relative,newmark_periods,newmark_"
+                 "seconds\n";
+        trajectories << "omega,t,x_hbm,x_newmark\n";
+        double worst = 0;
+        for (const double w : check_frequencies)
+          {
+            const Eigen::VectorXd x0 = rest_state(model);
+            const NewmarkResult   nm =
+                newmark_steady_state(hb, w, x0, Eigen::VectorXd::Zero(x0.size()), newmark);
+            AssertThrow(nm.converged, ExcMessage("Newmark did not reach a periodic steady state at w = " +
+                                                 std::to_string(w) + " rad/s in " +
+                                                 std::to_string(nm.periods) + " periods."));
+            // The HBM state from Newmark's last period as the initial guess: same branch.
+            Eigen::VectorXd z = hb.static_coefficients(x0);
+            {
+              std::vector<double> t(newmark.steps_per_period);
+              const std::size_t   n = hb.n_free();
+              for (std::size_t i = 0; i < n; ++i)
+                for (unsigned int kk = 0; kk <= hb.n_harmonics(); ++kk)
+                  {
+                    double s = 0, c = 0;
+                    for (unsigned int j = 0; j < t.size(); ++j)
+                      {
+                        const double th = 2 * pi * j / t.size(), x = nm.last_period(hb.free()[i], j);
+                        s += x * std::sin(kk * th), c += x * std::cos(kk * th);
+                      }
+                    if (kk == 0)
+                      z[i] = c / t.size();
+                    else
+                      z[(2 * kk - 1) * n + i] = 2 * s / t.size(), z[(2 * kk) * n + i] = 2 * c / t.size();
+                  }
+            }
+            const PeriodicSolveResult r = solve_periodic_state(hb, z, w);
+            AssertThrow(r.converged,
+                        ExcMessage("HBM found no periodic state at w = " + std::to_string(w) + "."));
+            std::vector<double> t(newmark.steps_per_period);
+            for (unsigned int j = 0; j < t.size(); ++j)
+              t[j] = 2 * pi / w * j / t.size();
+            const Eigen::MatrixXd x    = hb.positions_at(z, w, t);
+            const double          size = hb.half_range(z, w, tracked);
+            const double          diff =
+                (x.row(tracked) - nm.last_period.row(tracked)).lpNorm<Eigen::Infinity>() / size;
+            worst = std::max(worst, diff);
+            const double nm_half =
+                0.5 * (nm.last_period.row(tracked).maxCoeff() - nm.last_period.row(tracked).minCoeff());
+            table << json_number(w) << "," << json_number(size) << "," << json_number(nm_half) << ","
+                  << json_number(diff) << "," << nm.periods << "," << json_number(nm.seconds) << "\n";
+            for (unsigned int j = 0; j < t.size(); j += std::max(1u, unsigned(t.size() / 128)))
+              trajectories << json_number(w) << "," << json_number(t[j]) << "," << json_number(x(tracked, j))
+                           << "," << json_number(nm.last_period(tracked, j)) << "\n";
+            context.pcout << "Newmark check at w = " << w << ": " << nm.periods << " periods, HBM vs Newmark "
+                          << diff << " relative" << std::endl;
+          }
+        context.summary.add_figure("newmark_max_difference_relative", worst, "1");
+        if (context.is_root())
+          {
+            write_file_atomically(context.output.file("newmark_check.csv"), table.str());
+            write_file_atomically(context.output.file("trajectories.csv"), trajectories.str());
+          }
+      }
+
+      std::string             model_kind;
+      double                  mass = 1, k = 1, k3 = 1, span = 1, rest_length = 0.8, force = 0.5;
+      HarmonicBalanceSettings settings;
+      ContinuationSettings    continuation;
+      std::vector<double>     check_frequencies;
+      NewmarkSettings         newmark;
+    };
+  } // namespace
+
+  NLMECH_REGISTER_SCENE(harmonic_balance,
+                        (SceneInfo{
+                            "harmonic-balance",
+                            "Periodic steady states of a forced nonlinear oscillator by harmonic balance: "
+                            "frequency-response curve, folds, stability, resonance peaks, Newmark check.",
+                            &HarmonicBalanceScene::declare_parameters,
+                            [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
+                              return std::make_unique<HarmonicBalanceScene>(prm);
+                            }}))
+} // namespace nlmech
