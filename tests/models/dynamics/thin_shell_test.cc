@@ -1,0 +1,112 @@
+// Thin shell energies: derivatives against finite differences, zero energy for rigid motions, and
+// the bending energy of a sheet rolled into a cylinder against plate theory, D / 2 kappa^2 per area.
+#include <nlmech/mesh/gmsh_mesh.h>
+#include <nlmech/models/dynamics/thin_shell.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace nlmech;
+
+namespace
+{
+  RawSimplexMesh<3> sheet(double size)
+  {
+    MeshOptions options;
+    options.file                  = NLMECH_SOURCE_DIR "/meshes/unit_square.geo";
+    options.characteristic_length = size;
+    return read_simplex_mesh<3>(options, 2);
+  }
+  /// An equilateral triangle lattice covering about [0, 1] x [0, 1] (rows of spacing h sqrt(3)/2).
+  RawSimplexMesh<3> equilateral_sheet(unsigned int n)
+  {
+    RawSimplexMesh<3> mesh;
+    const double      h = 1.0 / n, dy = h * std::sqrt(3.0) / 2;
+    const unsigned    rows = unsigned(std::round(1.0 / dy));
+    for (unsigned int j = 0; j <= rows; ++j)
+      for (unsigned int i = 0; i <= n; ++i)
+        mesh.vertices.emplace_back(i * h + (j % 2) * 0.5 * h, j * dy, 0.0);
+    auto id = [&](unsigned int i, unsigned int j) { return j * (n + 1) + i; };
+    for (unsigned int j = 0; j < rows; ++j)
+      for (unsigned int i = 0; i < n; ++i)
+        if (j % 2 == 0)
+          {
+            mesh.cells.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
+            if (i + 1 <= n)
+              mesh.cells.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+          }
+        else
+          {
+            mesh.cells.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+            mesh.cells.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+          }
+    mesh.cell_material.assign(mesh.cells.size(), 0);
+    return mesh;
+  }
+} // namespace
+
+TEST(ThinShell, DerivativesMatchFiniteDifferences)
+{
+  const RawSimplexMesh<3> mesh = sheet(0.34);
+  ShellMaterial           material;
+  material.thickness     = 0.01;
+  const ShellModel shell = make_shell_model(mesh, material);
+  std::srand(3);
+  const Eigen::VectorXd x =
+      shell.rest_positions + 0.05 * Eigen::VectorXd::Random(shell.rest_positions.size());
+  for (const auto &term : shell.model.terms())
+    {
+      const DerivativeCheck check = check_derivatives(*term, x);
+      EXPECT_LT(check.gradient_error, 1e-6) << term->name();
+      EXPECT_LT(check.hessian_error, 1e-6) << term->name();
+    }
+}
+
+TEST(ThinShell, RigidMotionCostsNothing)
+{
+  const RawSimplexMesh<3> mesh  = sheet(0.25);
+  const ShellModel        shell = make_shell_model(mesh, ShellMaterial());
+  Eigen::VectorXd         x     = shell.rest_positions;
+  const double            c = std::cos(0.7), s = std::sin(0.7);
+  for (Eigen::Index v = 0; v < x.size() / 3; ++v)
+    {
+      const double X = x[3 * v], Y = x[3 * v + 1], Z = x[3 * v + 2];
+      x[3 * v] = c * X - s * Z + 0.3, x[3 * v + 1] = Y - 1.0, x[3 * v + 2] = s * X + c * Z;
+    }
+  EXPECT_LT(shell.model.energy(x), 1e-18);
+}
+
+/// On equilateral lattices the hinge energy with k_b = D / 6 converges to plate theory for
+/// cylindrical bending (boundary hinges missing: about 1 - 0.53 / n); on unstructured gmsh meshes
+/// the discrete-shell energy is not convergent in general, so only a loose bound there.
+TEST(ThinShell, CylinderBendingMatchesPlateTheory)
+{
+  ShellMaterial material;
+  material.poissons_ratio = 0.0;
+  material.thickness      = 0.01;
+  const double D          = material.youngs_modulus * std::pow(material.thickness, 3) / 12;
+  const double R          = 2.0;
+  auto         ratio      = [&](const RawSimplexMesh<3> &mesh) {
+    const ShellModel shell = make_shell_model(mesh, material);
+    Eigen::VectorXd  x     = shell.rest_positions;
+    double           area  = 0;
+    for (const double a : shell.membrane->elements().area)
+      area += a;
+    for (Eigen::Index v = 0; v < x.size() / 3; ++v)
+      {
+        const double X = x[3 * v];
+        x[3 * v] = R * std::sin(X / R), x[3 * v + 2] = R * (1 - std::cos(X / R));
+      }
+    return shell.bending->value(x) / (0.5 * D / (R * R) * area);
+  };
+  for (const unsigned int n : {10u, 20u, 40u})
+    {
+      const double r = ratio(equilateral_sheet(n));
+      std::printf("equilateral lattice, %u per side: discrete / plate bending energy %.4f\n", n, r);
+      EXPECT_NEAR(r, 1.0 - 0.53 / n, 0.01);
+    }
+  const double r = ratio(sheet(0.05));
+  std::printf("unstructured gmsh mesh, h = 0.05: discrete / plate bending energy %.4f\n", r);
+  EXPECT_NEAR(r, 1.0, 0.1);
+}
