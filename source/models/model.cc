@@ -13,6 +13,50 @@ namespace nlmech
                                           "> provides no Taylor series; the ANM cannot use it."));
   }
 
+  void EnergyTerm::add_hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                                              Eigen::VectorXd &out) const
+  {
+    Triplets t;
+    add_hessian(x, t);
+    for (const auto &e : t)
+      out[e.row()] += e.value() * v[e.col()];
+  }
+
+  void EnergyTerm::add_directional_hessian(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                                           Triplets &h) const
+  {
+    const double vmax = v.lpNorm<Eigen::Infinity>();
+    if (vmax == 0)
+      return;
+    const double eps = 1e-6 * std::max(1.0, x.lpNorm<Eigen::Infinity>()) / vmax;
+    Triplets     plus, minus;
+    add_hessian(x + eps * v, plus);
+    add_hessian(x - eps * v, minus);
+    for (const auto &e : plus)
+      h.emplace_back(e.row(), e.col(), e.value() / (2 * eps));
+    for (const auto &e : minus)
+      h.emplace_back(e.row(), e.col(), -e.value() / (2 * eps));
+  }
+
+  Eigen::VectorXd Model::hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v) const
+  {
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+    for (const auto &t : energy_terms)
+      t->add_hessian_vector_product(x, v, out);
+    return out;
+  }
+
+  Eigen::SparseMatrix<double> Model::directional_hessian(const Eigen::VectorXd &x,
+                                                         const Eigen::VectorXd &v) const
+  {
+    Triplets triplets;
+    for (const auto &t : energy_terms)
+      t->add_directional_hessian(x, v, triplets);
+    Eigen::SparseMatrix<double> h(n, n);
+    h.setFromTriplets(triplets.begin(), triplets.end());
+    return h;
+  }
+
   ConstantForceTerm::ConstantForceTerm(std::string term_name, Eigen::VectorXd force)
       : term_name(std::move(term_name))
       , force(std::move(force))

@@ -11,13 +11,16 @@
 #include <nlmech/base/progress.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
+#include <nlmech/mesh/vertex_field_output.h>
 #include <nlmech/models/dynamics/spring_network.h>
+#include <nlmech/models/dynamics/thin_shell.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 namespace nlmech
@@ -34,10 +37,12 @@ namespace nlmech
       static void declare_parameters(ParameterHandler &prm)
       {
         prm.enter_subsection("Oscillator");
-        prm.declare_entry("Model", "duffing", Patterns::Selection("duffing|two-spring-mass"),
+        prm.declare_entry("Model", "duffing", Patterns::Selection("duffing|two-spring-mass|shell"),
                           "duffing: m x'' + c x' + k x + k3 x^3 = F cos(w t); two-spring-mass: a mass at the "
                           "middle between two anchors at distance 2 Span, joined by geometric springs of "
-                          "rest length L0, forced across the span (a geometric nonlinearity).");
+                          "rest length L0, forced across the span (a geometric nonlinearity); shell: a thin "
+                          "shell (CST St.Venant-Kirchhoff membrane + hinge bending) on the gmsh surface mesh "
+                          "of subsection Mesh, with the subsections Shell and Structure.");
         prm.declare_entry("Mass", "1", Patterns::Double(0), "m [kg].");
         prm.declare_entry("Stiffness", "1", Patterns::Double(0), "k, per spring [N/m].");
         prm.declare_entry("Cubic stiffness", "1", Patterns::Double(), "k3, per spring [N/m^3].");
@@ -48,6 +53,36 @@ namespace nlmech
         prm.declare_entry("Rayleigh stiffness damping", "0", Patterns::Double(0),
                           "D_beta, D += D_beta K(x) [s].");
         prm.declare_entry("Force amplitude", "0.5", Patterns::Double(0), "F [N].");
+        prm.leave_subsection();
+        MeshParameters::declare_parameters(prm, NLMECH_SOURCE_DIR "/meshes/fork.geo", 0.012);
+        prm.enter_subsection("Shell");
+        prm.declare_entry("Young's modulus", "1e7", Patterns::Double(0), "[Pa].");
+        prm.declare_entry("Poisson's ratio", "0.4", Patterns::Double(-1, 0.5), "[-].");
+        prm.declare_entry("Density", "1100", Patterns::Double(0), "[kg/m^3].");
+        prm.declare_entry("Thickness", "0.001", Patterns::Double(0), "[m].");
+        prm.leave_subsection();
+        prm.enter_subsection("Structure");
+        prm.declare_entry("Clamped groups", "", Patterns::Anything(),
+                          "Edge or surface groups held at rest, comma-separated.");
+        prm.declare_entry("Driven groups", "handle", Patterns::Anything(),
+                          "Edge or surface groups moved harmonically: x = X + a d cos(w t) by a stiff "
+                          "penalty (thesis 2.A.5), comma-separated. Vertices along one straight edge alone "
+                          "leave the shell free to rotate about it.");
+        prm.declare_entry("Drive direction", "0, 0, 1", Patterns::Anything(), "d, normalised [-].");
+        prm.declare_entry("Drive amplitude", "0.002", Patterns::Double(0), "a [m].");
+        prm.declare_entry("Drive stiffness factor", "0", Patterns::Double(0),
+                          "0: the driven vertices follow their motion exactly (eliminated); > 0: a penalty "
+                          "(thesis 2.A.5) of this multiple of the largest diagonal entry of the stiffness "
+                          "matrix at rest, whose forces limit the attainable residual [-].");
+        prm.declare_entry("Point forces", "", Patterns::Anything(),
+                          "Harmonic forces F cos(w t) at the vertices nearest to points, `x, y, z: F_x, F_y, "
+                          "F_z; ...` [m: N].");
+        prm.declare_entry(
+            "Tracked point", "0.16, 0.0275, 0", Patterns::Anything(),
+            "The vertex nearest to this point is the one whose amplitude (2.3.14) is traced [m].");
+        prm.declare_entry("Period frames", "24", Patterns::Integer(0),
+                          "VTU frames (period.pvd) of one period at the first resonance peak, or at the end "
+                          "frequency without a peak; 0: none [-].");
         prm.leave_subsection();
         prm.enter_subsection("Harmonic balance");
         prm.declare_entry("Harmonics", "7", Patterns::Integer(), "N_H [-].");
@@ -82,6 +117,29 @@ namespace nlmech
         settings.rayleigh_stiffness = prm.get_double("Rayleigh stiffness damping");
         force                       = prm.get_double("Force amplitude");
         prm.leave_subsection();
+        mesh.parse_parameters(prm);
+        prm.enter_subsection("Shell");
+        shell_material.youngs_modulus = prm.get_double("Young's modulus");
+        shell_material.poissons_ratio = prm.get_double("Poisson's ratio");
+        shell_material.density        = prm.get_double("Density");
+        shell_material.thickness      = prm.get_double("Thickness");
+        prm.leave_subsection();
+        prm.enter_subsection("Structure");
+        for (const auto &g : Utilities::split_string_list(prm.get("Clamped groups"), ','))
+          if (!g.empty())
+            clamped_groups.push_back(g);
+        for (const auto &g : Utilities::split_string_list(prm.get("Driven groups"), ','))
+          if (!g.empty())
+            driven_groups.push_back(g);
+        drive_direction = parse_vector<3>(prm.get("Drive direction"), "Drive direction");
+        AssertThrow(drive_direction.norm() > 0, ExcMessage("Drive direction must not be zero."));
+        drive_direction /= drive_direction.norm();
+        drive_amplitude        = prm.get_double("Drive amplitude");
+        drive_stiffness_factor = prm.get_double("Drive stiffness factor");
+        point_forces           = parse_point_vectors(prm.get("Point forces"), "Point forces");
+        tracked_point          = Point<3>(parse_vector<3>(prm.get("Tracked point"), "Tracked point"));
+        period_frames          = prm.get_integer("Period frames");
+        prm.leave_subsection();
         prm.enter_subsection("Harmonic balance");
         const long harmonics = prm.get_integer("Harmonics"), samples = prm.get_integer("Time samples");
         AssertThrow(harmonics >= 1,
@@ -111,16 +169,32 @@ namespace nlmech
 
       void run(RunContext &context) override
       {
-        Model                 model   = build_model();
-        std::size_t           tracked = model_kind == "duffing" ? 1 : 3;
-        const HarmonicBalance hb(model, settings, {{tracked, force, 0.0}});
+        Model                      model(0);
+        std::size_t                tracked = 0;
+        std::vector<HarmonicForce> forces;
+        std::vector<HarmonicDrive> drives;
+        std::vector<std::size_t>   tracked_dofs;
+        if (model_kind == "shell")
+          {
+            TimerOutput::Scope t(context.timer, "mesh and shell model");
+            build_shell(context, model, forces, drives, tracked_dofs);
+            tracked = tracked_dofs[2];
+          }
+        else
+          {
+            model        = build_model();
+            tracked      = model_kind == "duffing" ? 1 : 3;
+            forces       = {{tracked, force, 0.0}};
+            tracked_dofs = {tracked};
+          }
+        const HarmonicBalance hb(model, settings, forces, drives);
         context.summary.add_string("model", model_kind);
         context.summary.add_number("harmonics", settings.n_harmonics);
         context.summary.add_number("time_samples", hb.n_samples());
         context.summary.add_number("unknowns", hb.n_unknowns());
 
         ProgressReporter progress("frequency response", 1.0, context.comm, context.pcout.get_stream());
-        continuation.tracked_dofs = {tracked};
+        continuation.tracked_dofs = tracked_dofs;
         double reported           = 0;
         continuation.progress     = [&](double done) {
           if (done >= reported + 0.1)
@@ -157,6 +231,14 @@ namespace nlmech
                                        "m");
           }
         context.summary.add_number("continuation_factorizations", frc.factorizations);
+        context.summary.add_number("continuation_rejected_steps", frc.rejected_steps);
+        context.summary.add_number("residual_evaluations", frc.residuals);
+        context.summary.add_number("jacobian_evaluations", frc.jacobians);
+        context.summary.add_figure("continuation_time", frc.seconds, "s");
+        context.summary.add_figure("residual_time", frc.residual_seconds, "s");
+        context.summary.add_figure("jacobian_time", frc.jacobian_seconds, "s");
+        context.summary.add_figure("factorization_time", frc.factorization_seconds, "s");
+        context.summary.add_figure("solve_time", frc.solve_seconds, "s");
         context.pcout << "frequency response: " << frc.points.size() << " points, " << folds << " folds, "
                       << frc.peaks.size() << " resonance peak(s)" << std::endl;
         if (context.is_root())
@@ -164,6 +246,23 @@ namespace nlmech
             write_file_atomically(context.output.file("frequency_response.csv"), csv.str());
             write_file_atomically(context.output.file("resonance_peaks.csv"), peaks.str());
             plot(context);
+          }
+        if (model_kind == "shell" && period_frames > 0 && context.is_root() && !frc.points.empty())
+          {
+            TimerOutput::Scope     t(context.timer, "output (period VTU/PVD)");
+            const Eigen::VectorXd &z = frc.peaks.empty() ? frc.points.back().z : frc.peaks.front().z;
+            const double           w = frc.peaks.empty() ? frc.points.back().omega : frc.peaks.front().omega;
+            std::vector<double>    times;
+            for (unsigned int f = 0; f < period_frames; ++f)
+              times.push_back(2 * pi / w * f / period_frames);
+            const Eigen::MatrixXd x = hb.positions_at(z, w, times);
+            std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> frames;
+            for (unsigned int f = 0; f < period_frames; ++f)
+              frames.push_back({{"displacement", Eigen::VectorXd(x.col(f) - rest_positions)}});
+            write_vertex_fields_pvd(shell_mesh,
+                                    std::filesystem::path(context.output.file("period.pvd")).parent_path(),
+                                    "period", times, frames);
+            context.summary.add_figure("period_frames_frequency", w, "rad/s");
           }
         if (!frc.completed)
           {
@@ -204,10 +303,87 @@ namespace nlmech
 
       Eigen::VectorXd rest_state(const Model &model) const
       {
+        if (model_kind == "shell")
+          return rest_positions;
         Eigen::VectorXd x = Eigen::VectorXd::Zero(model.n_unknowns());
         for (const auto &f : model.fixed())
           x[f.first] = f.second;
         return x;
+      }
+
+      /// The shell Model, its clamped and driven vertices and its harmonic point forces.
+      void build_shell(RunContext &context, Model &model, std::vector<HarmonicForce> &forces,
+                       std::vector<HarmonicDrive> &drives, std::vector<std::size_t> &tracked_dofs)
+      {
+        shell_mesh = read_simplex_mesh<3>(mesh.options(mesh.element_size), 2);
+        check_simplex_mesh(shell_mesh, 2);
+        ShellModel shell = make_shell_model(shell_mesh, shell_material);
+        model            = std::move(shell.model);
+        rest_positions   = shell.rest_positions;
+        // Vertices of an edge group or of a surface (cell) group.
+        auto group_vertices = [&](const std::string &group) {
+          std::set<unsigned int> vertices;
+          if (shell_mesh.groups.material_ids.count(group))
+            {
+              const unsigned int id = shell_mesh.groups.material_ids.at(group);
+              for (std::size_t c = 0; c < shell_mesh.cells.size(); ++c)
+                if (shell_mesh.cell_material[c] == id)
+                  vertices.insert(shell_mesh.cells[c].begin(), shell_mesh.cells[c].end());
+            }
+          else
+            {
+              const unsigned int id = shell_mesh.groups.boundary_id(group); // clear error if missing
+              for (std::size_t f = 0; f < shell_mesh.boundary_faces.size(); ++f)
+                if (shell_mesh.boundary_face_id[f] == id)
+                  vertices.insert(shell_mesh.boundary_faces[f].begin(), shell_mesh.boundary_faces[f].end());
+            }
+          AssertThrow(!vertices.empty(), ExcMessage("The group <" + group + "> has no vertices."));
+          return vertices;
+        };
+        for (const auto &g : clamped_groups)
+          for (const unsigned int v : group_vertices(g))
+            for (unsigned int i = 0; i < 3; ++i)
+              model.fix(3 * v + i, rest_positions[3 * v + i]);
+        AssertThrow(!driven_groups.empty() || !point_forces.empty(),
+                    ExcMessage("The shell needs driven groups or point forces: nothing excites it."));
+        double largest_diagonal = 0;
+        {
+          const Eigen::SparseMatrix<double> K = model.hessian(rest_positions);
+          for (Eigen::Index i = 0; i < K.rows(); ++i)
+            largest_diagonal = std::max(largest_diagonal, K.coeff(i, i));
+        }
+        std::size_t n_driven = 0;
+        for (const auto &g : driven_groups)
+          for (const unsigned int v : group_vertices(g))
+            {
+              AssertThrow(!model.is_fixed(3 * v),
+                          ExcMessage("A driven vertex is also clamped (group <" + g + ">)."));
+              for (unsigned int i = 0; i < 3; ++i)
+                drives.push_back({3 * v + i, drive_amplitude * drive_direction[i], 0.0,
+                                  drive_stiffness_factor * largest_diagonal, rest_positions[3 * v + i]});
+              ++n_driven;
+            }
+        auto nearest = [&](const Point<3> &p) {
+          std::size_t best = 0;
+          for (std::size_t v = 1; v < shell_mesh.vertices.size(); ++v)
+            if (shell_mesh.vertices[v].distance(p) < shell_mesh.vertices[best].distance(p))
+              best = v;
+          return best;
+        };
+        for (const auto &pf : point_forces)
+          {
+            const std::size_t v = nearest(pf.first);
+            for (unsigned int i = 0; i < 3; ++i)
+              if (pf.second[i] != 0)
+                forces.push_back({3 * v + i, pf.second[i], 0.0});
+          }
+        const std::size_t t = nearest(tracked_point);
+        tracked_dofs        = {3 * t, 3 * t + 1, 3 * t + 2};
+        context.pcout << "shell: " << shell_mesh.vertices.size() << " vertices, " << shell_mesh.cells.size()
+                      << " triangles, " << n_driven << " driven vertices, tracked vertex " << t << " at "
+                      << shell_mesh.vertices[t] << std::endl;
+        context.summary.add_number("n_vertices", shell_mesh.vertices.size());
+        context.summary.add_number("n_triangles", shell_mesh.cells.size());
       }
 
       void plot(RunContext &context) const
@@ -292,7 +468,17 @@ namespace nlmech
           }
       }
 
-      std::string             model_kind;
+      MeshParameters                                 mesh;
+      ShellMaterial                                  shell_material;
+      std::vector<std::string>                       clamped_groups, driven_groups;
+      Tensor<1, 3>                                   drive_direction;
+      double                                         drive_amplitude = 0, drive_stiffness_factor = 1e3;
+      std::vector<std::pair<Point<3>, Tensor<1, 3>>> point_forces;
+      Point<3>                                       tracked_point;
+      unsigned int                                   period_frames = 0;
+      RawSimplexMesh<3>                              shell_mesh;
+      Eigen::VectorXd                                rest_positions;
+      std::string                                    model_kind;
       double                  mass = 1, k = 1, k3 = 1, span = 1, rest_length = 0.8, force = 0.5;
       HarmonicBalanceSettings settings;
       ContinuationSettings    continuation;

@@ -14,10 +14,16 @@
 namespace nlmech
 {
   /// `fields`: (name, vector with 3 values per vertex). Also writes the cell-wise `cell_fields`.
+  /// Tetrahedral meshes and triangle surface meshes in 3D (a Triangulation<2, 3>).
   void write_vertex_fields_vtu(const RawSimplexMesh<3>                                    &mesh,
                                const std::vector<std::pair<std::string, Eigen::VectorXd>> &fields,
                                const std::vector<std::pair<std::string, Eigen::VectorXd>> &cell_fields,
                                const std::string                                          &path);
+
+  /// A time series: `basename-NNNN.vtu` per frame in `directory` and `basename.pvd` listing them.
+  void write_vertex_fields_pvd(const RawSimplexMesh<3> &mesh, const std::string &directory,
+                               const std::string &basename, const std::vector<double> &times,
+                               const std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> &frames);
 } // namespace nlmech
 
 namespace nlmech

@@ -30,6 +30,15 @@ namespace nlmech
     /// H += d2E/dx2, as (row, column, value) triplets (duplicates are summed).
     virtual void add_hessian(const Eigen::VectorXd &x, Triplets &h) const = 0;
 
+    /// out += H(x) v (default: through the Hessian).
+    virtual void add_hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                                            Eigen::VectorXd &out) const;
+    /// Triplets of d(H(x) v)/dx, the third derivative contracted with v (default: central
+    /// differences of the Hessian; element terms use forward AD). Needed by stiffness-proportional
+    /// damping D_beta K(x) x' in dynamics.
+    virtual void add_directional_hessian(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                                         Triplets &h) const;
+
     /// Whether add_gradient_series_coefficient is available (needed by the ANM).
     virtual bool has_series() const { return false; }
     /// Adds coefficient k of the Taylor series of the gradient along the path
@@ -118,6 +127,57 @@ namespace nlmech
           for (std::size_t i = 0; i < N; ++i)
             for (std::size_t j = 0; j < N; ++j)
               h.emplace_back(dofs[i], dofs[j], energy.dx(i).dx(j));
+        }
+    }
+
+    /// H(x) v from the gradient of the directional derivative phi = dE(x + eps v)/deps (cost ~2N).
+    void add_hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                                    Eigen::VectorXd &out) const override
+    {
+      using Direction = Sacado::Fad::SFad<double, 1>;
+      using Outer     = Sacado::Fad::SFad<Direction, N>;
+      for (std::size_t e = 0; e < element.n_elements(); ++e)
+        {
+          const auto           dofs = element.dofs(e);
+          std::array<Outer, N> local;
+          for (std::size_t i = 0; i < N; ++i)
+            {
+              Direction xi(1, 0, x[dofs[i]]);
+              xi.fastAccessDx(0) = v[dofs[i]];
+              local[i]           = Outer(N, i, xi);
+            }
+          const Outer energy = element.energy(local, e);
+          for (std::size_t i = 0; i < N; ++i)
+            out[dofs[i]] += energy.dx(i).dx(0);
+        }
+    }
+
+    /// d(H(x) v)/dx as the Hessian of phi = dE(x + eps v)/deps, by nested forward AD.
+    void add_directional_hessian(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                                 Triplets &h) const override
+    {
+      using Direction = Sacado::Fad::SFad<double, 1>;
+      using Inner     = Sacado::Fad::SFad<Direction, N>;
+      using Outer     = Sacado::Fad::SFad<Inner, N>;
+      for (std::size_t e = 0; e < element.n_elements(); ++e)
+        {
+          const auto dofs   = element.dofs(e);
+          bool       moving = false;
+          for (std::size_t i = 0; i < N; ++i)
+            moving = moving || v[dofs[i]] != 0;
+          if (!moving)
+            continue;
+          std::array<Outer, N> local;
+          for (std::size_t i = 0; i < N; ++i)
+            {
+              Direction xi(1, 0, x[dofs[i]]);
+              xi.fastAccessDx(0) = v[dofs[i]];
+              local[i]           = Outer(N, i, Inner(N, i, xi));
+            }
+          const Outer energy = element.energy(local, e);
+          for (std::size_t i = 0; i < N; ++i)
+            for (std::size_t j = 0; j < N; ++j)
+              h.emplace_back(dofs[i], dofs[j], energy.dx(i).dx(j).dx(0));
         }
     }
 

@@ -33,6 +33,9 @@ namespace nlmech
     double                      energy(const Eigen::VectorXd &x) const;
     Eigen::VectorXd             gradient(const Eigen::VectorXd &x) const;
     Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd &x) const;
+    /// H(x) v, and d(H(x) v)/dx (third derivatives along v), for stiffness-proportional damping.
+    Eigen::VectorXd hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v) const;
+    Eigen::SparseMatrix<double> directional_hessian(const Eigen::VectorXd &x, const Eigen::VectorXd &v) const;
     /// Coefficient k of the gradient's Taylor series along sum_{j<k} a^j path[j] (for the ANM).
     Eigen::VectorXd gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,
                                                 unsigned int                        k) const;

@@ -64,8 +64,7 @@ namespace nlmech
     AssertThrow(H >= 1, dealii::ExcMessage("Harmonic balance needs at least one harmonic (N_H >= 1)."));
     N = settings.n_samples;
     if (N == 0)
-      for (N = 4; N < 4 * H + 2; N *= 2)
-        ;
+      N = 4 * H + 2; // alias-free for cubic nonlinearities (3 H < N - H)
     AssertThrow(N >= 2 * H + 1,
                 dealii::ExcMessage(
                     "The AFT needs N_AFT >= 2 N_H + 1 time samples (Nyquist): N_AFT = " + std::to_string(N) +
@@ -75,9 +74,29 @@ namespace nlmech
     const std::size_t n = model.n_unknowns();
     base                = Eigen::VectorXd::Zero(n);
     free_index.assign(n, -1);
+    std::vector<HarmonicDrive> penalty;
+    std::vector<bool>          driven(n, false);
+    for (const auto &d : drives)
+      {
+        AssertThrow(
+            d.dof < n && !model.is_fixed(d.dof) && d.stiffness >= 0,
+            dealii::ExcMessage("A driven unknown is missing or fixed, or has a negative drive stiffness."));
+        if (d.stiffness > 0)
+          penalty.push_back(d);
+        else
+          prescribed.push_back(d), driven[d.dof] = true;
+      }
+    drives = penalty;
     for (std::size_t i = 0; i < n; ++i)
-      if (!model.is_fixed(i))
+      if (!model.is_fixed(i) && !driven[i])
         free_index[i] = long(free_dofs.size()), free_dofs.push_back(i);
+    AssertThrow(!free_dofs.empty(), dealii::ExcMessage("Harmonic balance: no free unknowns."));
+    {
+      std::map<std::size_t, double> not_free = model.fixed();
+      for (const auto &d : prescribed)
+        not_free[d.dof] = 0;
+      restriction = std::make_unique<FreeDofMap>(n, not_free);
+    }
     for (const auto &f : model.fixed())
       base[f.first] = f.second;
     mass.resize(free_dofs.size());
@@ -87,9 +106,6 @@ namespace nlmech
     for (const auto &f : forces)
       AssertThrow(f.dof < n && free_index[f.dof] >= 0,
                   dealii::ExcMessage("A harmonic force acts on a missing or fixed unknown."));
-    for (const auto &d : drives)
-      AssertThrow(d.dof < n && free_index[d.dof] >= 0 && d.stiffness > 0,
-                  dealii::ExcMessage("A driven unknown is missing, fixed, or has no drive stiffness."));
 
     gamma.resize(N, 2 * H + 1);
     gamma_inverse.resize(2 * H + 1, N);
@@ -170,11 +186,7 @@ namespace nlmech
     const Eigen::MatrixXd free_samples = to_time(z);
     Eigen::MatrixXd       x(base.size(), N);
     for (unsigned int j = 0; j < N; ++j)
-      {
-        x.col(j) = base;
-        for (std::size_t i = 0; i < free_dofs.size(); ++i)
-          x(free_dofs[i], j) = free_samples(i, j);
-      }
+      x.col(j) = full(free_samples.col(j), 2 * pi * j / N);
     return x;
   }
 
@@ -198,7 +210,7 @@ namespace nlmech
     Eigen::MatrixXd   x(base.size(), t.size());
     for (std::size_t j = 0; j < t.size(); ++j)
       {
-        x.col(j) = base;
+        x.col(j) = full(Eigen::VectorXd::Zero(n), omega * t[j]);
         for (std::size_t i = 0; i < n; ++i)
           {
             double value = z[i];
@@ -220,12 +232,25 @@ namespace nlmech
     return {z[(2 * k - 1) * n + i], z[(2 * k) * n + i]};
   }
 
-  Eigen::VectorXd HarmonicBalance::full(const Eigen::VectorXd &free_values) const
+  Eigen::VectorXd HarmonicBalance::full(const Eigen::VectorXd &free_values, const double theta) const
   {
     Eigen::VectorXd x = base;
     for (std::size_t i = 0; i < free_dofs.size(); ++i)
       x[free_dofs[i]] = free_values[i];
+    for (const auto &d : prescribed)
+      x[d.dof] = d.center + excitation * d.amplitude * std::cos(theta + d.phase);
     return x;
+  }
+
+  Eigen::VectorXd HarmonicBalance::full_velocity(const Eigen::VectorXd &free_velocities, const double theta,
+                                                 const double omega) const
+  {
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(base.size());
+    for (std::size_t i = 0; i < free_dofs.size(); ++i)
+      v[free_dofs[i]] = free_velocities[i];
+    for (const auto &d : prescribed)
+      v[d.dof] = -omega * excitation * d.amplitude * std::sin(theta + d.phase);
+    return v;
   }
 
   Eigen::MatrixXd HarmonicBalance::velocities_at(const Eigen::VectorXd &z, const double omega,
@@ -233,6 +258,8 @@ namespace nlmech
   {
     const std::size_t n = free_dofs.size();
     Eigen::MatrixXd   v = Eigen::MatrixXd::Zero(base.size(), t.size());
+    for (std::size_t j = 0; j < t.size(); ++j)
+      v.col(j) = full_velocity(Eigen::VectorXd::Zero(n), omega * t[j], omega);
     for (std::size_t j = 0; j < t.size(); ++j)
       for (std::size_t i = 0; i < n; ++i)
         for (unsigned int k = 1; k <= H; ++k)
@@ -246,20 +273,18 @@ namespace nlmech
                                          const double theta, Eigen::SparseMatrix<double> *df_dx,
                                          Eigen::SparseMatrix<double> *df_dv) const
   {
-    const double     beta = settings.rayleigh_stiffness;
-    const FreeDofMap map(system.n_unknowns(), system.fixed());
-    Eigen::VectorXd  f = -map.restrict(system.gradient(x));
+    const double      beta = settings.rayleigh_stiffness;
+    const FreeDofMap &map  = *restriction;
+    Eigen::VectorXd   f    = -map.restrict(system.gradient(x));
     AssertThrow(f.allFinite(), dealii::ExcMessage("The internal force is not finite (the motion is too large "
                                                   "for the model, e.g. an inverted element)."));
-    Eigen::SparseMatrix<double> K;
-    if (beta > 0 || df_dx)
-      K = system.hessian(x);
     if (beta > 0)
-      f -= beta * map.restrict(Eigen::VectorXd(K * v_full));
+      f -= beta * map.restrict(system.hessian_vector_product(x, v_full));
     for (const auto &a : forces)
-      f[free_index[a.dof]] += a.amplitude * std::cos(theta + a.phase);
+      f[free_index[a.dof]] += excitation * a.amplitude * std::cos(theta + a.phase);
     for (const auto &d : drives)
-      f[free_index[d.dof]] -= d.stiffness * (x[d.dof] - d.center - d.amplitude * std::cos(theta + d.phase));
+      f[free_index[d.dof]] -=
+          d.stiffness * (x[d.dof] - d.center - excitation * d.amplitude * std::cos(theta + d.phase));
     if (df_dx)
       {
         const std::size_t                   n = free_dofs.size();
@@ -268,14 +293,9 @@ namespace nlmech
         for (const auto &d : drives)
           t.emplace_back(free_index[d.dof], free_index[d.dof], d.stiffness);
         drive_stiffness.setFromTriplets(t.begin(), t.end());
-        // d(K(x) v)/dx along v: central differences of the Hessian (third derivatives of E).
-        Eigen::SparseMatrix<double> dK   = K * 0.0;
-        const double                vmax = v_full.lpNorm<Eigen::Infinity>();
-        if (beta > 0 && vmax > 0)
-          {
-            const double eps = 1e-6 * std::max(1.0, x.lpNorm<Eigen::Infinity>()) / vmax;
-            dK = (system.hessian(x + eps * v_full) - system.hessian(x - eps * v_full)) / (2 * eps);
-          }
+        // d(K(x) v)/dx: third derivatives of E along v (forward AD in element terms).
+        const Eigen::SparseMatrix<double> K  = system.hessian(x);
+        const Eigen::SparseMatrix<double> dK = beta > 0 ? system.directional_hessian(x, v_full) : K * 0.0;
         const Eigen::SparseMatrix<double> Kf = map.restrict(K), dKf = map.restrict(dK);
         *df_dx = -Kf - beta * dKf - drive_stiffness;
         *df_dv = -beta * Kf + 0.0 * dKf + 0.0 * drive_stiffness;
@@ -297,15 +317,15 @@ namespace nlmech
       df_dx->assign(N, {}), df_dv->assign(N, {});
     if (df_domega)
       df_domega->setZero(n, N);
-    const FreeDofMap map(system.n_unknowns(), system.fixed());
+    const FreeDofMap &map = *restriction;
     for (unsigned int j = 0; j < N; ++j)
       {
-        const Eigen::VectorXd v_full = full(v.col(j)) - base;
+        const Eigen::VectorXd v_full = full_velocity(v.col(j), 2 * pi * j / N, omega);
         f.col(j)                     = force(x.col(j), v_full, 2 * pi * j / N, df_dx ? &(*df_dx)[j] : nullptr,
                          df_dv ? &(*df_dv)[j] : nullptr);
         if (df_domega && settings.rayleigh_stiffness > 0)
           df_domega->col(j) = -settings.rayleigh_stiffness *
-                              map.restrict(Eigen::VectorXd(system.hessian(x.col(j)) * v_full)) / omega;
+                              map.restrict(system.hessian_vector_product(x.col(j), v_full)) / omega;
       }
     return f;
   }

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <iostream>
 #include <limits>
 
 namespace nlmech
@@ -54,14 +56,16 @@ namespace nlmech
     /// Continuation state with its unit tangent (weighted norm) and the amplitude slope dA/ds.
     struct PathPoint
     {
-      Eigen::VectorXd z, tz;
-      double          omega = 0, tomega = 0, amplitude = 0, dA_ds = 0;
+      Eigen::VectorXd z, tz, row_z;
+      double          omega = 0, tomega = 0, amplitude = 0, dA_ds = 0, row_omega = 0, scale = 1;
       unsigned int    iterations = 0;
     };
   } // namespace
 
   double force_scale(const HarmonicBalance &hb, const Eigen::VectorXd &z, const double omega)
   {
+    // Inertial forces of the motion and the forcing amplitudes. Not the drive penalties: a stiff
+    // penalty's force at rest (stiffness x amplitude) would make every relative tolerance meaningless.
     double scale = 0;
     for (std::size_t i = 0; i < hb.n_free(); ++i)
       for (unsigned int k = 1; k <= hb.n_harmonics(); ++k)
@@ -70,10 +74,25 @@ namespace nlmech
           scale =
               std::max(scale, std::pow(k * omega, 2) * hb.free_mass()[i] * std::hypot(sc.first, sc.second));
         }
-    // Forcing: the first harmonic of the external force at the static state.
-    const Eigen::VectorXd h0 = hb.residual(hb.static_coefficients(hb.full(z.head(hb.n_free()))), omega);
-    scale                    = std::max(scale, h0.lpNorm<Eigen::Infinity>());
+    for (const auto &f : hb.harmonic_forces())
+      scale = std::max(scale, hb.excitation_scale() * std::abs(f.amplitude));
+    for (const auto &d : hb.prescribed_drives())
+      scale = std::max(scale, std::pow(omega, 2) * hb.model().lumped_mass()[d.dof] * hb.excitation_scale() *
+                                  std::abs(d.amplitude));
+    for (const auto &d : hb.harmonic_drives())
+      scale = std::max(scale, std::pow(omega, 2) * hb.model().lumped_mass()[d.dof] * hb.excitation_scale() *
+                                  std::abs(d.amplitude));
     return std::max(scale, 1e-300);
+  }
+
+  double residual_floor(const HarmonicBalance &hb, const Eigen::VectorXd &z)
+  {
+    const Eigen::VectorXd             x = hb.full(z.head(hb.n_free()));
+    const Eigen::SparseMatrix<double> K = hb.model().hessian(x);
+    double                            k = 0;
+    for (Eigen::Index i = 0; i < K.rows(); ++i)
+      k = std::max(k, std::abs(K.coeff(i, i)));
+    return 100 * std::numeric_limits<double>::epsilon() * k * std::max(x.lpNorm<Eigen::Infinity>(), 1e-300);
   }
 
   PeriodicSolveResult solve_periodic_state(const HarmonicBalance &hb, Eigen::VectorXd &z, const double omega,
@@ -81,9 +100,10 @@ namespace nlmech
   {
     PeriodicSolveResult result;
     const double        scale = force_scale(hb, z, omega);
+    const double        floor = residual_floor(hb, z);
     using KINSOL              = dealii::SUNDIALS::KINSOL<dealii::Vector<double>>;
     KINSOL::AdditionalData data(KINSOL::AdditionalData::linesearch, settings.max_iterations,
-                                settings.relative_tolerance * scale,
+                                std::max(settings.relative_tolerance * scale, floor),
                                 1e-14 * std::max(1.0, z.lpNorm<Eigen::Infinity>()), false, 1);
     KINSOL                 solver(data);
     SparseFactorization    factorization;
@@ -137,11 +157,48 @@ namespace nlmech
     const Eigen::VectorXd candidate = to_eigen(u);
     const Eigen::VectorXd h         = hb.residual(candidate, omega);
     result.residual                 = h.lpNorm<Eigen::Infinity>() / scale;
-    result.converged = h.allFinite() && result.residual <= std::max(settings.relative_tolerance, 1e-13) * 10;
+    result.converged =
+        h.allFinite() && h.lpNorm<Eigen::Infinity>() <=
+                             10 * std::max(std::max(settings.relative_tolerance, 1e-13) * scale, floor);
     if (result.converged)
       z = candidate;
     else if (result.message.empty())
       result.message = "relative residual " + std::to_string(result.residual);
+    return result;
+  }
+
+  PeriodicSolveResult solve_with_excitation_ramp(const HarmonicBalance &hb, Eigen::VectorXd &z,
+                                                 const double omega, const PeriodicSolveSettings &settings)
+  {
+    PeriodicSolveResult result = solve_periodic_state(hb, z, omega, settings);
+    if (result.converged)
+      return result;
+    // Continuation in the excitation amplitude from the state given (e.g. rest, where the
+    // linearisation is poor for thin structures: membranes only stiffen out of plane when stretched).
+    double       done = 0, step = 0.1;
+    unsigned int total = result.iterations;
+    while (done < 1)
+      {
+        const double    next  = std::min(1.0, done + step);
+        Eigen::VectorXd trial = z;
+        hb.set_excitation_scale(next);
+        result = solve_periodic_state(hb, trial, omega, settings);
+        total += result.iterations;
+        if (std::getenv("NLMECH_HBM_DEBUG"))
+          std::cerr << "ramp " << next << " converged " << result.converged << " residual " << result.residual
+                    << " scale " << force_scale(hb, trial, omega) << std::endl;
+        if (result.converged)
+          z = trial, done = next, step = std::min(0.5, 1.5 * step);
+        else if ((step *= 0.5) < 1e-4)
+          break;
+      }
+    hb.set_excitation_scale(1.0);
+    result.iterations = total;
+    if (done < 1)
+      {
+        result.converged = false;
+        result.message   = "the excitation ramp stalled at " + std::to_string(done) + " of the amplitude";
+      }
     return result;
   }
 
@@ -198,69 +255,108 @@ namespace nlmech
                     settings.omega_start != settings.omega_end,
                 dealii::ExcMessage("The frequency range needs two different positive frequencies."));
     AssertThrow(!settings.tracked_dofs.empty(), dealii::ExcMessage("No tracked unknowns for the amplitude."));
-    FrequencyResponse     response;
+    FrequencyResponse response;
+    const auto        started = std::chrono::steady_clock::now();
+    auto              since   = [](std::chrono::steady_clock::time_point t0) {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    // Timed evaluations of h, its Jacobian and dh/dw.
+    auto residual = [&](const Eigen::VectorXd &z, double w) {
+      const auto      t0 = std::chrono::steady_clock::now();
+      Eigen::VectorXd h  = hb.residual(z, w);
+      response.residual_seconds += since(t0), ++response.residuals;
+      return h;
+    };
+    auto jacobian = [&](const Eigen::VectorXd &z, double w, Eigen::VectorXd &hw) {
+      const auto                  t0 = std::chrono::steady_clock::now();
+      Eigen::SparseMatrix<double> J  = hb.jacobian(z, w);
+      hw                             = hb.d_residual_d_omega(z, w);
+      response.jacobian_seconds += since(t0), ++response.jacobians;
+      return J;
+    };
     const double          direction = settings.omega_end > settings.omega_start ? 1.0 : -1.0;
     PeriodicSolveSettings fixed;
     fixed.relative_tolerance        = settings.relative_tolerance;
-    const PeriodicSolveResult first = solve_periodic_state(hb, z, settings.omega_start, fixed);
+    const PeriodicSolveResult first = solve_with_excitation_ramp(hb, z, settings.omega_start, fixed);
     AssertThrow(first.converged,
                 dealii::ExcMessage("Harmonic balance: no periodic state found at the start "
                                    "frequency " +
                                    std::to_string(settings.omega_start) + " rad/s (" + first.message + ")."));
     // Weighted norm: z in units of its harmonic size at the start, w in units of the range.
-    double z_ref = 0;
-    for (Eigen::Index i = Eigen::Index(hb.n_free()); i < z.size(); ++i)
-      z_ref = std::max(z_ref, std::abs(z[i]));
+    double z_ref       = z.tail(z.size() - Eigen::Index(hb.n_free())).norm();
     z_ref              = std::max(z_ref, 1e-9 * std::max(1.0, z.head(hb.n_free()).lpNorm<Eigen::Infinity>()));
     const double w_ref = std::abs(settings.omega_end - settings.omega_start);
     const double wz = 1 / (z_ref * z_ref), ww = 1 / (w_ref * w_ref);
-    auto         norm = [&](const Eigen::VectorXd &dz, double dw) {
+    const double floor = residual_floor(hb, z); // round-off level of the residual (positions ~ |x|)
+    auto         norm  = [&](const Eigen::VectorXd &dz, double dw) {
       return std::sqrt(wz * dz.squaredNorm() + ww * dw * dw);
     };
 
-    SparseFactorization factorization;
-    // Tangent at (z, w) with the sign of `previous` (2.3.19).
-    auto tangent = [&](PathPoint &p, const Eigen::VectorXd &prev_z, double prev_w) {
-      const Eigen::SparseMatrix<double> J  = hb.jacobian(p.z, p.omega);
-      const Eigen::VectorXd             hw = hb.d_residual_d_omega(p.z, p.omega);
-      factorization.factorize(bordered(J, hw, wz * prev_z, ww * prev_w), false);
+    // `at_current`: the bordered matrix of the last tangent, [J(y_i), h_w(y_i); r_i^T], with the
+    // border row r_i = W t_{i-1}; the corrector from y_i reuses it (chord Newton) with the hyperplane
+    // r_i^T (y - y_pred) = 0, and refactorises only when that stalls.
+    SparseFactorization at_current, work;
+    // Tangent at (z, w) with the sign of the previous tangent (2.3.19).
+    auto tangent = [&](PathPoint &p, const Eigen::VectorXd &row_z, double row_omega) {
+      Eigen::VectorXd                   hw;
+      const Eigen::SparseMatrix<double> J = jacobian(p.z, p.omega, hw);
+      p.row_z = row_z, p.row_omega = row_omega;
+      at_current.factorize(bordered(J, hw, p.row_z, p.row_omega), false);
       Eigen::VectorXd rhs     = Eigen::VectorXd::Zero(J.rows() + 1);
       rhs[J.rows()]           = 1;
-      const Eigen::VectorXd t = factorization.solve(rhs);
+      const Eigen::VectorXd t = at_current.solve(rhs);
       const double          s = norm(t.head(J.rows()), t[J.rows()]);
       p.tz = t.head(J.rows()) / s, p.tomega = t[J.rows()] / s;
       Eigen::VectorXd grad;
       p.amplitude = hb.amplitude(p.z, p.omega, settings.tracked_dofs, &grad);
       p.dA_ds     = grad.dot(p.tz);
+      p.scale     = force_scale(hb, p.z, p.omega);
     };
-    // Corrector from a prediction: Newton on [h; <t, y - y_pred>] = 0.
-    auto correct = [&](const PathPoint &from, const double ds, PathPoint &to) {
+    // Corrector from the prediction y_i + ds t_i on the hyperplane r_i^T (y - y_pred) = 0. With
+    // `chord`, `at_current` must hold the factorisation at `from`.
+    auto correct = [&](const PathPoint &from, const double ds, PathPoint &to, bool chord) {
       to.z = from.z + ds * from.tz, to.omega = from.omega + ds * from.tomega;
-      const Eigen::VectorXd zp    = to.z;
-      const double          wp    = to.omega;
-      const double          scale = force_scale(hb, to.z, to.omega);
-      for (unsigned int it = 0; it < 10; ++it)
+      if (to.omega <= 0)
+        return false;
+      const Eigen::VectorXd zp       = to.z;
+      const double          wp       = to.omega;
+      SparseFactorization  *solver   = chord ? &at_current : &work;
+      bool                  fresh    = !chord;
+      double                previous = std::numeric_limits<double>::max();
+      for (unsigned int it = 0; it < 25; ++it)
         {
           if (to.omega <= 0)
             return false;
-          const Eigen::VectorXd h = hb.residual(to.z, to.omega);
+          const Eigen::VectorXd h = residual(to.z, to.omega);
           if (!h.allFinite())
             return false;
-          const double arc = wz * from.tz.dot(to.z - zp) + ww * from.tomega * (to.omega - wp);
-          if (it > 0 && h.lpNorm<Eigen::Infinity>() <= settings.relative_tolerance * scale &&
-              std::abs(arc) < 1e-12)
+          const double arc = from.row_z.dot(to.z - zp) + from.row_omega * (to.omega - wp);
+          const double r   = h.lpNorm<Eigen::Infinity>();
+          if (std::getenv("NLMECH_HBM_DEBUG"))
+            std::cerr << "corrector it " << it << " w " << to.omega << " r/scale " << r / from.scale
+                      << " arc " << arc << " ds " << ds << (chord ? " chord" : " newton") << std::endl;
+          if (it > 0 && r <= std::max(settings.relative_tolerance * from.scale, floor) &&
+              std::abs(arc) <= 1e-9 * std::abs(ds))
             {
               to.iterations = it;
               return true;
             }
-          factorization.factorize(bordered(hb.jacobian(to.z, to.omega), hb.d_residual_d_omega(to.z, to.omega),
-                                           wz * from.tz, ww * from.tomega),
-                                  false);
+          // The chord iteration stalls (or this is a plain Newton step): refactorise here.
+          if (fresh || (it > 0 && r > 0.3 * previous))
+            {
+              Eigen::VectorXd                   hw;
+              const Eigen::SparseMatrix<double> J = jacobian(to.z, to.omega, hw);
+              work.factorize(bordered(J, hw, from.row_z, from.row_omega), false);
+              solver = &work, fresh = false;
+              if (!chord)
+                fresh = true; // full Newton: a new Jacobian every iteration
+            }
+          previous = r;
           Eigen::VectorXd rhs(h.size() + 1);
           rhs.head(h.size()) = -h, rhs[h.size()] = -arc;
-          const Eigen::VectorXd d = factorization.solve(rhs);
+          const Eigen::VectorXd d = solver->solve(rhs);
           to.z += d.head(h.size()), to.omega += d[h.size()];
-          if (it >= 2 && norm(d.head(h.size()), d[h.size()]) > 0.5 * ds)
+          if (it >= 3 && norm(d.head(h.size()), d[h.size()]) > 0.5 * ds)
             return false; // diverging
         }
       return false;
@@ -268,7 +364,7 @@ namespace nlmech
 
     PathPoint current;
     current.z = z, current.omega = settings.omega_start;
-    tangent(current, Eigen::VectorXd::Zero(z.size()), direction);
+    tangent(current, Eigen::VectorXd::Zero(z.size()), ww * direction);
     current.iterations = first.iterations;
     auto record        = [&](const PathPoint &p) {
       ResponsePoint r;
@@ -298,7 +394,23 @@ namespace nlmech
             break;
           }
         PathPoint next;
-        if (!correct(current, ds, next))
+        bool      accepted = correct(current, ds, next, true);
+        if (accepted)
+          {
+            // Step control: the corrected point near the prediction, the curve turning by less than
+            // about 30 degrees; otherwise the corrector may have jumped to another part of the curve.
+            const double distance =
+                norm(next.z - current.z - ds * current.tz, next.omega - current.omega - ds * current.tomega);
+            accepted = distance <= 0.5 * ds;
+            if (accepted)
+              {
+                tangent(next, wz * current.tz, ww * current.tomega);
+                accepted = wz * next.tz.dot(current.tz) + ww * next.tomega * current.tomega >= 0.85;
+                if (!accepted) // restore the factorisation at the current point
+                  tangent(current, current.row_z, current.row_omega);
+              }
+          }
+        if (!accepted)
           {
             ++response.rejected_steps;
             ds *= 0.5;
@@ -320,7 +432,7 @@ namespace nlmech
               {
                 PathPoint end;
                 end.z = z_e, end.omega = settings.omega_end;
-                tangent(end, current.tz, current.tomega);
+                tangent(end, wz * current.tz, ww * current.tomega);
                 record(end);
                 path.push_back(end);
                 response.completed = true;
@@ -329,7 +441,6 @@ namespace nlmech
               response.stop_reason = "no periodic state at the end frequency";
             break;
           }
-        tangent(next, current.tz, current.tomega);
         record(next);
         path.push_back(next);
         if (settings.progress)
@@ -366,9 +477,9 @@ namespace nlmech
             {
               const double s = b - gb * (b - a) / (gb - ga);
               PathPoint    trial;
-              if (!correct(path[i], s, trial))
+              if (!correct(path[i], s, trial, false))
                 break;
-              tangent(trial, path[i].tz, path[i].tomega);
+              tangent(trial, wz * path[i].tz, ww * path[i].tomega);
               a = b, ga = gb, b = s, gb = trial.dA_ds;
               best = trial;
               if (std::abs(gb) < 1e-12 * (1 + best.amplitude))
@@ -385,7 +496,10 @@ namespace nlmech
           else
             response.peaks.push_back(r);
         }
-    response.factorizations = factorization.n_factorizations;
+    response.factorizations        = at_current.n_factorizations + work.n_factorizations;
+    response.factorization_seconds = at_current.factorization_seconds + work.factorization_seconds;
+    response.solve_seconds         = at_current.solve_seconds + work.solve_seconds;
+    response.seconds               = since(started);
     return response;
   }
 
@@ -407,11 +521,11 @@ namespace nlmech
       return r;
     };
     Eigen::VectorXd x = restrict(x0), v = restrict(v0);
-    auto            full_v = [&](const Eigen::VectorXd &vf) {
-      return Eigen::VectorXd(hb.full(vf) - hb.full(Eigen::VectorXd::Zero(n)));
-    };
-    Eigen::VectorXd a = (hb.force(hb.full(x), full_v(v), 0.0) - alpha * m.cwiseProduct(v)).cwiseQuotient(m);
-    NewmarkResult   result;
+
+    Eigen::VectorXd a =
+        (hb.force(hb.full(x, 0.0), hb.full_velocity(v, 0.0, omega), 0.0) - alpha * m.cwiseProduct(v))
+            .cwiseQuotient(m);
+    NewmarkResult result;
     result.last_period.resize(x0.size(), S);
     Eigen::MatrixXd     previous(n, S), this_period(n, S);
     SparseFactorization factorization;
@@ -431,11 +545,12 @@ namespace nlmech
                 vn = gamma / (beta * dt) * (xn - x) + (1 - gamma / beta) * v +
                      dt * (1 - gamma / (2 * beta)) * a;
                 Eigen::SparseMatrix<double> Kx, Kv;
-                const Eigen::VectorXd       f       = hb.force(hb.full(xn), full_v(vn), theta, &Kx, &Kv);
-                const Eigen::VectorXd       inertia = m.cwiseProduct(an);
-                const Eigen::VectorXd       R       = inertia + alpha * m.cwiseProduct(vn) - f;
-                const double                r       = R.lpNorm<Eigen::Infinity>();
-                const double                scale =
+                const Eigen::VectorXd       f =
+                    hb.force(hb.full(xn, theta), hb.full_velocity(vn, theta, omega), theta, &Kx, &Kv);
+                const Eigen::VectorXd inertia = m.cwiseProduct(an);
+                const Eigen::VectorXd R       = inertia + alpha * m.cwiseProduct(vn) - f;
+                const double          r       = R.lpNorm<Eigen::Infinity>();
+                const double          scale =
                     std::max({f.lpNorm<Eigen::Infinity>(), inertia.lpNorm<Eigen::Infinity>(), 1e-300});
                 // Converged, or stagnating at the round-off floor of the inertia term.
                 if (r <= settings.newton_tolerance * scale ||
@@ -474,7 +589,7 @@ namespace nlmech
         previous = this_period;
       }
     for (unsigned int s = 0; s < S; ++s)
-      result.last_period.col(s) = hb.full(this_period.col(s));
+      result.last_period.col(s) = hb.full(this_period.col(s), 2 * pi * s / S);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   }

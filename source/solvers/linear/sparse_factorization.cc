@@ -17,6 +17,9 @@ namespace nlmech
   SparseFactorization::SparseFactorization()
   {
     cholesky.cholmod().print = 0; // "not positive definite" is expected and handled by the LU fallback
+    // No iterative refinement inside UMFPACK: every solve is checked against its residual here, and
+    // the Newton-type callers correct the rest (refinement tripled the cost of a solve).
+    lu.umfpackControl()(UMFPACK_IRSTEP) = 0;
   }
 
   void SparseFactorization::factorize(const Eigen::SparseMatrix<double> &A, const bool symmetric)

@@ -63,6 +63,24 @@ TEST(ThinShell, DerivativesMatchFiniteDifferences)
     }
 }
 
+TEST(ThinShell, HessianVectorProductAndDirectionalHessianMatchReferences)
+{
+  const RawSimplexMesh<3> mesh  = sheet(0.34);
+  const ShellModel        shell = make_shell_model(mesh, ShellMaterial());
+  std::srand(5);
+  const Eigen::VectorXd x =
+      shell.rest_positions + 0.05 * Eigen::VectorXd::Random(shell.rest_positions.size());
+  const Eigen::VectorXd v  = Eigen::VectorXd::Random(x.size());
+  const Eigen::VectorXd Hv = shell.model.hessian(x) * v;
+  EXPECT_LT((shell.model.hessian_vector_product(x, v) - Hv).lpNorm<Eigen::Infinity>(),
+            1e-12 * Hv.lpNorm<Eigen::Infinity>());
+  const double          eps = 1e-6;
+  const Eigen::MatrixXd fd =
+      Eigen::MatrixXd(shell.model.hessian(x + eps * v) - shell.model.hessian(x - eps * v)) / (2 * eps);
+  const Eigen::MatrixXd ad = Eigen::MatrixXd(shell.model.directional_hessian(x, v));
+  EXPECT_LT((fd - ad).lpNorm<Eigen::Infinity>(), 1e-6 * ad.lpNorm<Eigen::Infinity>());
+}
+
 TEST(ThinShell, RigidMotionCostsNothing)
 {
   const RawSimplexMesh<3> mesh  = sheet(0.25);

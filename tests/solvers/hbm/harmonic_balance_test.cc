@@ -1,6 +1,8 @@
 // Harmonic balance against independent references: finite differences of the residual, the dense
 // DFT, the exact Duffing backbone (complete elliptic integral), the linear steady state, Newmark.
+#include <nlmech/mesh/gmsh_mesh.h>
 #include <nlmech/models/dynamics/spring_network.h>
+#include <nlmech/models/dynamics/thin_shell.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
 
 #include <gtest/gtest.h>
@@ -225,4 +227,45 @@ TEST(HarmonicBalance, ForcedDuffingAgreesWithNewmarkAndHasTwoFolds)
   ASSERT_EQ(frc.peaks.size(), 1u);
   std::printf("forced Duffing: %zu points, 2 folds, %u unstable, peak at w = %.4f\n", frc.points.size(),
               unstable, frc.peaks[0].omega);
+}
+
+TEST(HarmonicBalance, ShellJacobianWithPrescribedDriveMatchesFiniteDifferences)
+{
+  MeshOptions options;
+  options.file                  = NLMECH_SOURCE_DIR "/meshes/unit_square.geo";
+  options.characteristic_length = 0.5;
+  const RawSimplexMesh<3> mesh  = read_simplex_mesh<3>(options, 2);
+  ShellMaterial           material;
+  material.thickness            = 0.01;
+  const ShellModel        shell = make_shell_model(mesh, material);
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics        = 2;
+  settings.rayleigh_mass      = 0.3;
+  settings.rayleigh_stiffness = 0.001;
+  std::vector<HarmonicDrive> drives;
+  for (unsigned int v = 0; v < 3; ++v)
+    for (unsigned int i = 0; i < 3; ++i)
+      drives.push_back({3 * v + i, i == 2 ? 0.01 : 0.0, 0.2, 0.0, shell.rest_positions[3 * v + i]});
+  const HarmonicBalance hb(shell.model, settings, {}, drives);
+  std::srand(7);
+  Eigen::VectorXd z = hb.static_coefficients(shell.rest_positions);
+  z += 0.01 * Eigen::VectorXd::Random(z.size());
+  const double          omega = 3.0;
+  const Eigen::MatrixXd J     = Eigen::MatrixXd(hb.jacobian(z, omega));
+  double                worst = 0;
+  for (Eigen::Index j = 0; j < z.size(); ++j)
+    {
+      const double    h  = 1e-7;
+      Eigen::VectorXd zp = z, zm = z;
+      zp[j] += h, zm[j] -= h;
+      const Eigen::VectorXd column = (hb.residual(zp, omega) - hb.residual(zm, omega)) / (2 * h);
+      worst                        = std::max(worst, (column - J.col(j)).lpNorm<Eigen::Infinity>());
+    }
+  EXPECT_LT(worst, 1e-6 * J.lpNorm<Eigen::Infinity>());
+  const Eigen::VectorXd dw = (hb.residual(z, omega + 1e-6) - hb.residual(z, omega - 1e-6)) / 2e-6;
+  EXPECT_LT((dw - hb.d_residual_d_omega(z, omega)).lpNorm<Eigen::Infinity>(),
+            1e-6 * std::max(1.0, dw.norm()));
+  Eigen::VectorXd z0 = hb.static_coefficients(shell.rest_positions);
+  const auto      r  = solve_with_excitation_ramp(hb, z0, omega);
+  EXPECT_TRUE(r.converged) << r.message << " residual " << r.residual << " iterations " << r.iterations;
 }

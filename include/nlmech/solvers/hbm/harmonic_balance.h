@@ -27,21 +27,24 @@ namespace nlmech
     double      phase = 0;
   };
 
-  /// A driven unknown (motor, shaker): a stiff spring pulls it to x_0 + amplitude cos(w t + phase),
-  /// the penalty of thesis appendix 2.A.5. The unknown must not be fixed in the Model.
+  /// A driven unknown (motor, shaker) moving as x_0 + amplitude cos(w t + phase). With a positive
+  /// stiffness, a stiff spring pulls it there (the penalty of thesis appendix 2.A.5; its forces set
+  /// a round-off floor of about 1e-16 stiffness |x| on the residual); with stiffness 0 the motion is
+  /// prescribed exactly and the unknown leaves the harmonic-balance system. The unknown must not be
+  /// fixed in the Model.
   struct HarmonicDrive
   {
     std::size_t dof;
     double      amplitude;
     double      phase     = 0;
-    double      stiffness = 0; // [N/m]; 0: chosen by the caller (e.g. 1e4 x the largest stiffness)
+    double      stiffness = 0; // [N/m]; 0: exact prescribed motion
     double      center    = 0; // x_0
   };
 
   struct HarmonicBalanceSettings
   {
     unsigned int n_harmonics        = 5;    // N_H
-    unsigned int n_samples          = 0;    // N_AFT; 0: the smallest power of two >= 4 N_H + 2
+    unsigned int n_samples          = 0;    // N_AFT; 0: 4 N_H + 2 (alias-free for cubic terms)
     bool         use_fft            = true; // false: dense DFT matrices (for comparison)
     double       rayleigh_mass      = 0;    // D_alpha [1/s]
     double       rayleigh_stiffness = 0;    // D_beta [s]
@@ -92,10 +95,19 @@ namespace nlmech
                           Eigen::SparseMatrix<double> *df_dv = nullptr) const;
     /// Full-length velocities at times t.
     Eigen::MatrixXd velocities_at(const Eigen::VectorXd &z, double omega, const std::vector<double> &t) const;
-    const Eigen::VectorXd         &free_mass() const { return mass; }
-    const HarmonicBalanceSettings &parameters() const { return settings; }
-    /// Full-length vector from free values (fixed unknowns at their values).
-    Eigen::VectorXd full(const Eigen::VectorXd &free_values) const;
+    const Eigen::VectorXd            &free_mass() const { return mass; }
+    const std::vector<HarmonicForce> &harmonic_forces() const { return forces; }
+    const std::vector<HarmonicDrive> &harmonic_drives() const { return drives; }
+    const HarmonicBalanceSettings    &parameters() const { return settings; }
+    /// Full-length positions from free values at phase theta = w t (fixed unknowns at their values,
+    /// exactly driven ones on their prescribed motion).
+    Eigen::VectorXd full(const Eigen::VectorXd &free_values, double theta = 0) const;
+    /// Full-length velocities from free velocities (prescribed motion included).
+    Eigen::VectorXd full_velocity(const Eigen::VectorXd &free_velocities, double theta, double omega) const;
+    const std::vector<HarmonicDrive> &prescribed_drives() const { return prescribed; }
+    /// Scales every forcing and drive amplitude (a load parameter for ramping the excitation up).
+    void   set_excitation_scale(double scale) const { excitation = scale; }
+    double excitation_scale() const { return excitation; }
 
     /// Coefficients of harmonic k (0..H) of free unknown i: (s_k, c_k); s_0 = 0.
     std::pair<double, double> coefficient(const Eigen::VectorXd &z, std::size_t free_index,
@@ -113,16 +125,18 @@ namespace nlmech
     Eigen::MatrixXd to_time(const Eigen::VectorXd &coefficients) const;
     Eigen::VectorXd linear_part(const Eigen::VectorXd &z, double omega, bool derivative) const;
 
-    const Model               &system;
-    HarmonicBalanceSettings    settings;
-    unsigned int               H, N;
-    std::vector<HarmonicForce> forces;
-    std::vector<HarmonicDrive> drives;
-    std::vector<std::size_t>   free_dofs;
-    std::vector<long>          free_index;
-    Eigen::VectorXd            base;                 // full-length template: fixed values
-    Eigen::VectorXd            mass;                 // free lumped masses
-    Eigen::MatrixXd            gamma, gamma_inverse; // dense DFT operators (2.A.17-18), N x (2H+1)
+    const Model                &system;
+    HarmonicBalanceSettings     settings;
+    unsigned int                H, N;
+    std::vector<HarmonicForce>  forces;
+    std::vector<HarmonicDrive>  drives, prescribed; // penalty drives, exact drives
+    std::vector<std::size_t>    free_dofs;
+    std::vector<long>           free_index;
+    std::unique_ptr<FreeDofMap> restriction; // onto the free unknowns (not fixed, not prescribed)
+    mutable double              excitation = 1;
+    Eigen::VectorXd             base;                 // full-length template: fixed values
+    Eigen::VectorXd             mass;                 // free lumped masses
+    Eigen::MatrixXd             gamma, gamma_inverse; // dense DFT operators (2.A.17-18), N x (2H+1)
     struct FftPlans;
     std::unique_ptr<FftPlans> fft;
   };

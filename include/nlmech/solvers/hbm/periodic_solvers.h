@@ -32,9 +32,20 @@ namespace nlmech
   /// the inertial force w^2 m |z|.
   double force_scale(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega);
 
-  /// Newton (KINSOL, line search, Jacobian every iteration) for h(z, w) = 0 at fixed w.
+  /// Round-off level of the residual: the elastic forces of positions |x| through stiffnesses k
+  /// cancel to about eps k |x| (100 eps k_max |x|_inf). Thin, stiff structures reach it long before
+  /// a relative tolerance on the (small) inertial forces.
+  double residual_floor(const HarmonicBalance &hb, const Eigen::VectorXd &z);
+
+  /// Newton (KINSOL, line search, Jacobian every iteration) for h(z, w) = 0 at fixed w, to the
+  /// relative tolerance or the round-off floor.
   PeriodicSolveResult solve_periodic_state(const HarmonicBalance &hb, Eigen::VectorXd &z, double omega,
                                            const PeriodicSolveSettings &settings = {});
+
+  /// solve_periodic_state, and where it fails from `z`, the same with the excitation ramped up from
+  /// a tenth of its amplitude (steps adapted).
+  PeriodicSolveResult solve_with_excitation_ramp(const HarmonicBalance &hb, Eigen::VectorXd &z, double omega,
+                                                 const PeriodicSolveSettings &settings = {});
 
   struct FloquetResult
   {
@@ -56,8 +67,10 @@ namespace nlmech
     double                   relative_tolerance = 1e-9;
     double                   max_amplitude = 0; // stop beyond this (tracked dofs' half range) [m]; 0: none
     std::vector<std::size_t> tracked_dofs;      // amplitude (2.3.14) of these unknowns
-    bool                     stability              = true;
-    unsigned int             max_free_for_stability = 300;
+    bool                     stability = true;
+    /// Floquet multipliers (dense monodromy, explicit RK4) only up to this many free unknowns: the
+    /// cost grows with n^3 and stiff structures need an implicit monodromy (not yet written).
+    unsigned int max_free_for_stability = 30;
     /// Called after every point with (fraction of the frequency range done).
     std::function<void(double)> progress;
   };
@@ -86,6 +99,9 @@ namespace nlmech
     bool                       completed = false;
     std::string                stop_reason;
     unsigned int               factorizations = 0, rejected_steps = 0;
+    unsigned int               residuals = 0, jacobians = 0;
+    double residual_seconds = 0, jacobian_seconds = 0, factorization_seconds = 0, solve_seconds = 0,
+           seconds = 0;
   };
 
   /// Traces the curve from a solution z at omega_start (solved first) towards omega_end.
