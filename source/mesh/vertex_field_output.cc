@@ -3,12 +3,12 @@
 #include <nlmech/mesh/vertex_field_output.h>
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/grid/tria.h>
-#include <deal.II/base/utilities.h>
 #include <deal.II/numerics/data_out.h>
 
 #include <sstream>
@@ -85,9 +85,10 @@ namespace nlmech
       write_fields<3>(mesh, fields, cell_fields, path);
   }
 
-  void write_vertex_fields_pvd(const RawSimplexMesh<3> &mesh, const std::string &directory,
-                               const std::string &basename, const std::vector<double> &times,
-                               const std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> &frames)
+  void
+  write_vertex_fields_pvd(const RawSimplexMesh<3> &mesh, const std::string &directory,
+                          const std::string &basename, const std::vector<double> &times,
+                          const std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> &frames)
   {
     AssertThrow(times.size() == frames.size(), ExcMessage("One time per frame is needed."));
     std::vector<std::pair<double, std::string>> records;

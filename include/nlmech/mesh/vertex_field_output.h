@@ -21,9 +21,10 @@ namespace nlmech
                                const std::string                                          &path);
 
   /// A time series: `basename-NNNN.vtu` per frame in `directory` and `basename.pvd` listing them.
-  void write_vertex_fields_pvd(const RawSimplexMesh<3> &mesh, const std::string &directory,
-                               const std::string &basename, const std::vector<double> &times,
-                               const std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> &frames);
+  void
+  write_vertex_fields_pvd(const RawSimplexMesh<3> &mesh, const std::string &directory,
+                          const std::string &basename, const std::vector<double> &times,
+                          const std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> &frames);
 } // namespace nlmech
 
 namespace nlmech

@@ -102,11 +102,12 @@ namespace nlmech
     const double        scale = force_scale(hb, z, omega);
     const double        floor = residual_floor(hb, z);
     using KINSOL              = dealii::SUNDIALS::KINSOL<dealii::Vector<double>>;
-    KINSOL::AdditionalData data(KINSOL::AdditionalData::linesearch, settings.max_iterations,
-                                std::max(settings.relative_tolerance * scale, floor),
+    KINSOL::AdditionalData data(std::getenv("NLMECH_KINSOL_NEWTON") ? KINSOL::AdditionalData::newton
+                                                                    : KINSOL::AdditionalData::linesearch,
+                                settings.max_iterations, std::max(settings.relative_tolerance * scale, floor),
                                 1e-14 * std::max(1.0, z.lpNorm<Eigen::Infinity>()), false, 1);
-    KINSOL                 solver(data);
-    SparseFactorization    factorization;
+    KINSOL              solver(data);
+    SparseFactorization factorization;
     solver.reinit_vector = [&](dealii::Vector<double> &v) { v.reinit(hb.n_unknowns()); };
     solver.residual      = [&](const dealii::Vector<double> &u, dealii::Vector<double> &F) {
       try
@@ -529,7 +530,8 @@ namespace nlmech
     result.last_period.resize(x0.size(), S);
     Eigen::MatrixXd     previous(n, S), this_period(n, S);
     SparseFactorization factorization;
-    double              size = 0;
+    double              size          = 0;
+    const double        elastic_floor = residual_floor(hb, hb.static_coefficients(x0));
     for (unsigned int p = 0; p < settings.max_periods; ++p)
       {
         for (unsigned int s = 0; s < S; ++s)
@@ -553,7 +555,11 @@ namespace nlmech
                 const double          scale =
                     std::max({f.lpNorm<Eigen::Infinity>(), inertia.lpNorm<Eigen::Infinity>(), 1e-300});
                 // Converged, or stagnating at the round-off floor of the inertia term.
-                if (r <= settings.newton_tolerance * scale ||
+                // Round-off of the inertia term (x_n+1 - x_n) / (beta dt^2) with positions of size |x|.
+                const double floor = std::max(
+                    elastic_floor, 100 * std::numeric_limits<double>::epsilon() * m.maxCoeff() *
+                                       std::max(xn.lpNorm<Eigen::Infinity>(), 1e-300) / (beta * dt * dt));
+                if (r <= std::max(settings.newton_tolerance * scale, floor) ||
                     (it > 0 && r > 0.5 * previous && r <= 1e-8 * scale))
                   break;
                 AssertThrow(
