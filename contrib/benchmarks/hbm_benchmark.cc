@@ -41,7 +41,7 @@ namespace
     Model             model(2);
     SpringElements<1> springs;
     Spring<1>         s;
-    s.a = 0, s.b = 1, s.stiffness = 1, s.cubic = 1, s.axial = true, s.direction = {1.0};
+    s.a = 0, s.b = 1, s.stiffness = 1, s.cubic = 1, s.axial = true, s.direction = {{1.0}};
     springs.springs.push_back(s);
     model.add_term(std::make_shared<SpringTerm<1>>("spring", springs));
     model.lumped_mass() = Eigen::VectorXd::Constant(2, 1.0);
@@ -57,7 +57,7 @@ namespace
     for (unsigned int i = 0; i < n; ++i)
       {
         Spring<1> s;
-        s.a = i, s.b = i + 1, s.stiffness = 1, s.cubic = 0.5, s.axial = true, s.direction = {1.0};
+        s.a = i, s.b = i + 1, s.stiffness = 1, s.cubic = 0.5, s.axial = true, s.direction = {{1.0}};
         springs.springs.push_back(s);
       }
     model.add_term(std::make_shared<SpringTerm<1>>("chain", springs));

@@ -39,7 +39,8 @@ def main():
             ax.plot(w[start:end], a[start:end], style, color="C0", label=label)
             start = i
     folds = [i for i, r in enumerate(rows) if r["fold"] == "1"]
-    ax.plot([w[i] for i in folds], [a[i] for i in folds], "o", color="C3", label="fold")
+    if folds:
+        ax.plot([w[i] for i in folds], [a[i] for i in folds], "o", color="C3", label="fold")
     if peaks:
         ax.plot([float(p["omega"]) for p in peaks], [float(p["half_range"]) for p in peaks], "^", color="C2",
                 label="resonance peak")

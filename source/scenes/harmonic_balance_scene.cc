@@ -280,7 +280,7 @@ namespace nlmech
             Model             model(2);
             SpringElements<1> springs;
             Spring<1>         s;
-            s.a = 0, s.b = 1, s.stiffness = k, s.cubic = k3, s.axial = true, s.direction = {1.0};
+            s.a = 0, s.b = 1, s.stiffness = k, s.cubic = k3, s.axial = true, s.direction = {{1.0}};
             springs.springs.push_back(s);
             model.add_term(std::make_shared<SpringTerm<1>>("Duffing spring", springs));
             model.lumped_mass() = Eigen::VectorXd::Constant(2, mass);
