@@ -36,19 +36,6 @@ namespace
     return t[t.size() / 2];
   }
 
-  Model duffing()
-  {
-    Model             model(2);
-    SpringElements<1> springs;
-    Spring<1>         s;
-    s.a = 0, s.b = 1, s.stiffness = 1, s.cubic = 1, s.axial = true, s.direction = {{1.0}};
-    springs.springs.push_back(s);
-    model.add_term(std::make_shared<SpringTerm<1>>("spring", springs));
-    model.lumped_mass() = Eigen::VectorXd::Constant(2, 1.0);
-    model.fix(0, 0.0);
-    return model;
-  }
-
   /// A chain of n masses with cubic springs between them (and to a wall), forced at the last one.
   Model chain(unsigned int n)
   {
@@ -71,7 +58,7 @@ int main(int argc, char **argv)
 {
   const unsigned int repeats = argc > 1 ? unsigned(std::atoi(argv[1])) : 5;
   std::printf("# HBM benchmark (median of %u)\n\n", repeats);
-  const Model             model = duffing();
+  const Model             model = make_duffing_model(1, 1, 1);
   HarmonicBalanceSettings settings;
   settings.rayleigh_mass = 0.1;
   std::printf("## Duffing steady state: HBM vs Newmark from rest, equal trajectory error\n\n");

@@ -275,30 +275,8 @@ namespace nlmech
     private:
       Model build_model() const
       {
-        if (model_kind == "duffing")
-          {
-            Model             model(2);
-            SpringElements<1> springs;
-            Spring<1>         s;
-            s.a = 0, s.b = 1, s.stiffness = k, s.cubic = k3, s.axial = true, s.direction = {{1.0}};
-            springs.springs.push_back(s);
-            model.add_term(std::make_shared<SpringTerm<1>>("Duffing spring", springs));
-            model.lumped_mass() = Eigen::VectorXd::Constant(2, mass);
-            model.fix(0, 0.0);
-            return model;
-          }
-        Model             model(6);
-        SpringElements<2> springs;
-        for (unsigned int a : {0u, 2u})
-          {
-            Spring<2> s;
-            s.a = a, s.b = 1, s.stiffness = k, s.cubic = k3, s.rest_length = rest_length;
-            springs.springs.push_back(s);
-          }
-        model.add_term(std::make_shared<SpringTerm<2>>("springs", springs));
-        model.lumped_mass() = Eigen::VectorXd::Constant(6, mass);
-        model.fix(0, -span), model.fix(1, 0.0), model.fix(4, span), model.fix(5, 0.0);
-        return model;
+        return model_kind == "duffing" ? make_duffing_model(mass, k, k3)
+                                       : make_two_spring_mass_model(mass, k, k3, span, rest_length);
       }
 
       Eigen::VectorXd rest_state(const Model &model) const

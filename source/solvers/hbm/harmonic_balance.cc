@@ -306,8 +306,7 @@ namespace nlmech
 
   Eigen::MatrixXd HarmonicBalance::sample_forces(const Eigen::VectorXd &z, const double omega,
                                                  std::vector<Eigen::SparseMatrix<double>> *df_dx,
-                                                 std::vector<Eigen::SparseMatrix<double>> *df_dv,
-                                                 Eigen::MatrixXd                          *df_domega) const
+                                                 std::vector<Eigen::SparseMatrix<double>> *df_dv) const
   {
     const std::size_t     n = free_dofs.size();
     const Eigen::MatrixXd x = sample_positions(z);
@@ -315,18 +314,9 @@ namespace nlmech
     Eigen::MatrixXd       f(n, N);
     if (df_dx)
       df_dx->assign(N, {}), df_dv->assign(N, {});
-    if (df_domega)
-      df_domega->setZero(n, N);
-    const FreeDofMap &map = *restriction;
     for (unsigned int j = 0; j < N; ++j)
-      {
-        const Eigen::VectorXd v_full = full_velocity(v.col(j), 2 * pi * j / N, omega);
-        f.col(j)                     = force(x.col(j), v_full, 2 * pi * j / N, df_dx ? &(*df_dx)[j] : nullptr,
-                         df_dv ? &(*df_dv)[j] : nullptr);
-        if (df_domega && settings.rayleigh_stiffness > 0)
-          df_domega->col(j) = -settings.rayleigh_stiffness *
-                              map.restrict(system.hessian_vector_product(x.col(j), v_full)) / omega;
-      }
+      f.col(j) = force(x.col(j), full_velocity(v.col(j), 2 * pi * j / N, omega), 2 * pi * j / N,
+                       df_dx ? &(*df_dx)[j] : nullptr, df_dv ? &(*df_dv)[j] : nullptr);
     return f;
   }
 
@@ -352,13 +342,25 @@ namespace nlmech
   Eigen::VectorXd HarmonicBalance::residual(const Eigen::VectorXd &z, const double omega) const
   {
     AssertThrow(omega > 0, dealii::ExcMessage("Harmonic balance needs a positive frequency."));
-    return linear_part(z, omega, false) - to_frequency(sample_forces(z, omega, nullptr, nullptr, nullptr));
+    return linear_part(z, omega, false) - to_frequency(sample_forces(z, omega, nullptr, nullptr));
   }
 
   Eigen::VectorXd HarmonicBalance::d_residual_d_omega(const Eigen::VectorXd &z, const double omega) const
   {
-    Eigen::MatrixXd df_domega;
-    sample_forces(z, omega, nullptr, nullptr, &df_domega);
+    // Only the damping force -D_beta K(x) v depends on w at fixed z, through v ~ w: its derivative
+    // is that force over w (2.3.18).
+    const std::size_t n         = free_dofs.size();
+    Eigen::MatrixXd   df_domega = Eigen::MatrixXd::Zero(n, N);
+    if (settings.rayleigh_stiffness > 0)
+      {
+        const Eigen::MatrixXd x = sample_positions(z);
+        const Eigen::MatrixXd v = sample_free_velocities(z, omega);
+        for (unsigned int j = 0; j < N; ++j)
+          df_domega.col(j) = -settings.rayleigh_stiffness *
+                             restriction->restrict(system.hessian_vector_product(
+                                 x.col(j), full_velocity(v.col(j), 2 * pi * j / N, omega))) /
+                             omega;
+      }
     return linear_part(z, omega, true) - to_frequency(df_domega);
   }
 
@@ -366,7 +368,7 @@ namespace nlmech
   {
     const std::size_t                        n = free_dofs.size(), B = 2 * H + 1;
     std::vector<Eigen::SparseMatrix<double>> Kx, Kv;
-    sample_forces(z, omega, &Kx, &Kv, nullptr);
+    sample_forces(z, omega, &Kx, &Kv);
     for (unsigned int j = 1; j < N; ++j)
       AssertThrow(same_pattern(Kx[0], Kx[j]) && same_pattern(Kx[0], Kv[j]),
                   dealii::ExcMessage("Harmonic balance: the tangent's pattern changes over the period."));

@@ -102,12 +102,11 @@ namespace nlmech
     const double        scale = force_scale(hb, z, omega);
     const double        floor = residual_floor(hb, z);
     using KINSOL              = dealii::SUNDIALS::KINSOL<dealii::Vector<double>>;
-    KINSOL::AdditionalData data(std::getenv("NLMECH_KINSOL_NEWTON") ? KINSOL::AdditionalData::newton
-                                                                    : KINSOL::AdditionalData::linesearch,
-                                settings.max_iterations, std::max(settings.relative_tolerance * scale, floor),
+    KINSOL::AdditionalData data(KINSOL::AdditionalData::linesearch, settings.max_iterations,
+                                std::max(settings.relative_tolerance * scale, floor),
                                 1e-14 * std::max(1.0, z.lpNorm<Eigen::Infinity>()), false, 1);
-    KINSOL              solver(data);
-    SparseFactorization factorization;
+    KINSOL                 solver(data);
+    SparseFactorization    factorization;
     solver.reinit_vector = [&](dealii::Vector<double> &v) { v.reinit(hb.n_unknowns()); };
     solver.residual      = [&](const dealii::Vector<double> &u, dealii::Vector<double> &F) {
       try

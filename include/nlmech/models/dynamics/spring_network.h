@@ -6,6 +6,7 @@
 // energy is k/2 s^2 + k3/4 s^4. Positions are unknowns d*v + i of vertex v.
 
 #include <nlmech/models/energy_term.h>
+#include <nlmech/models/model.h>
 
 #include <array>
 #include <cmath>
@@ -64,4 +65,13 @@ namespace nlmech
 
   template <int dim>
   using SpringTerm = ElementEnergyTerm<SpringElements<dim>>;
+
+  /// The Duffing oscillator m x'' + k x + k3 x^3: vertex 0 fixed at 0, vertex 1 (unknown 1) of mass
+  /// m on an axial cubic spring (1D).
+  Model make_duffing_model(double mass, double stiffness, double cubic);
+
+  /// A mass at the origin between anchors at (-span, 0) and (span, 0), joined by geometric springs
+  /// of rest length L0 (2D; the mass's unknowns are 2 and 3).
+  Model make_two_spring_mass_model(double mass, double stiffness, double cubic, double span,
+                                   double rest_length);
 } // namespace nlmech

@@ -118,8 +118,7 @@ namespace nlmech
     /// df/dx and df/dv (free x free, common pattern) when requested.
     Eigen::MatrixXd sample_forces(const Eigen::VectorXd &z, double omega,
                                   std::vector<Eigen::SparseMatrix<double>> *df_dx,
-                                  std::vector<Eigen::SparseMatrix<double>> *df_dv,
-                                  Eigen::MatrixXd                          *df_domega) const;
+                                  std::vector<Eigen::SparseMatrix<double>> *df_dv) const;
     /// Fourier coefficients (free-length blocks) of sampled data (n_free x N) and back.
     Eigen::VectorXd to_frequency(const Eigen::MatrixXd &samples) const;
     Eigen::MatrixXd to_time(const Eigen::VectorXd &coefficients) const;

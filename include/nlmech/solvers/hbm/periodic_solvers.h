@@ -4,7 +4,8 @@
 // continuation (2.3.19) with adaptive steps through folds, resonance peaks (local maxima of the
 // amplitude 2.3.14 along the curve, refined on the curve), stability by Floquet multipliers, and
 // the time-domain reference: Newmark (beta = 1/4, gamma = 1/2) to the periodic steady state with
-// the period-difference criterion (2.5.1).
+// the period-difference criterion (2.5.1). NLMECH_HBM_DEBUG=1 in the environment prints the
+// continuation corrector's and the excitation ramp's residuals to stderr.
 
 #include <nlmech/solvers/hbm/harmonic_balance.h>
 
