@@ -95,9 +95,11 @@ TEST(ThinShell, RigidMotionCostsNothing)
   EXPECT_LT(shell.model.energy(x), 1e-18);
 }
 
-/// On equilateral lattices the hinge energy with k_b = D / 6 converges to plate theory for
-/// cylindrical bending (boundary hinges missing: about 1 - 0.53 / n); on unstructured gmsh meshes
-/// the discrete-shell energy is not convergent in general, so only a loose bound there.
+/// Reference: plate theory, D / 2 kappa^2 per area for a sheet rolled into a cylinder (nu = 0). On
+/// equilateral lattices the hinge energy with k_b = D / 6 must approach it under refinement (the
+/// deficit comes from the missing boundary hinges and must shrink with n) and be within 2 % at 40
+/// triangles per side; on unstructured gmsh meshes the discrete-shell energy is not convergent in
+/// general, so only a 10 % bound there.
 TEST(ThinShell, CylinderBendingMatchesPlateTheory)
 {
   ShellMaterial material;
@@ -118,12 +120,15 @@ TEST(ThinShell, CylinderBendingMatchesPlateTheory)
       }
     return shell.bending->value(x) / (0.5 * D / (R * R) * area);
   };
+  double previous_error = 1;
   for (const unsigned int n : {10u, 20u, 40u})
     {
       const double r = ratio(equilateral_sheet(n));
       std::printf("equilateral lattice, %u per side: discrete / plate bending energy %.4f\n", n, r);
-      EXPECT_NEAR(r, 1.0 - 0.53 / n, 0.01);
+      EXPECT_LT(std::abs(1 - r), previous_error) << "no convergence towards plate theory at n = " << n;
+      previous_error = std::abs(1 - r);
     }
+  EXPECT_LT(previous_error, 0.02);
   const double r = ratio(sheet(0.05));
   std::printf("unstructured gmsh mesh, h = 0.05: discrete / plate bending energy %.4f\n", r);
   EXPECT_NEAR(r, 1.0, 0.1);
