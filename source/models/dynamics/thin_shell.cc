@@ -32,7 +32,7 @@ namespace nlmech
       {
         AssertThrow(mesh.cells[c].size() == 3,
                     dealii::ExcMessage("The shell mesh must consist of triangles."));
-        const std::array<unsigned int, 3> tri = {mesh.cells[c][0], mesh.cells[c][1], mesh.cells[c][2]};
+        const std::array<unsigned int, 3> tri = {{mesh.cells[c][0], mesh.cells[c][1], mesh.cells[c][2]}};
         const auto &X0 = mesh.vertices[tri[0]], &X1 = mesh.vertices[tri[1]], &X2 = mesh.vertices[tri[2]];
         const dealii::Tensor<1, 3> d1 = X1 - X0, d2 = X2 - X0;
         const dealii::Tensor<1, 3> normal = dealii::cross_product_3d(d1, d2);
@@ -45,7 +45,7 @@ namespace nlmech
         const double a = d1 * e1, b = d2 * e1, cc = d1 * e2, d = d2 * e2; // D_m = [[a, b], [cc, d]]
         const double det = a * d - b * cc;
         membrane.triangles.push_back(tri);
-        membrane.dm_inverse.push_back({d / det, -b / det, -cc / det, a / det});
+        membrane.dm_inverse.push_back({{d / det, -b / det, -cc / det, a / det}});
         membrane.area.push_back(area);
         for (int v = 0; v < 3; ++v)
           {
@@ -67,7 +67,7 @@ namespace nlmech
         const auto &[c2, v2]                  = edge.second[1];
         const std::array<unsigned int, 3> &t1 = membrane.triangles[c1], &t2 = membrane.triangles[c2];
         const unsigned int a = t1[v1], b = t1[(v1 + 1) % 3], c = t1[(v1 + 2) % 3], d = t2[(v2 + 2) % 3];
-        hinges.hinges.push_back({a, b, c, d});
+        hinges.hinges.push_back({{a, b, c, d}});
         std::array<double, 12> X;
         for (int v = 0; v < 4; ++v)
           for (int i = 0; i < 3; ++i)
