@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Plots a frequency-response CSV written by nlmech's harmonic-balance scene: amplitude against
-driving frequency, stable branches solid, unstable dashed, folds and resonance peaks marked.
+driving frequency, stable branches solid, unstable dashed, folds and resonance peaks marked, and
+the linear modal analysis response dotted where the CSV has it.
 
 usage: frequency_response.py RESPONSE.csv OUT.png [TITLE] [PEAKS.csv]
 The PNG is written under a temporary name and renamed into place.
@@ -38,6 +39,8 @@ def main():
             label = {1: "stable", 0: "unstable", -1: "stability not computed"}[stable[start]]
             ax.plot(w[start:end], a[start:end], style, color="C0", label=label)
             start = i
+    if rows and "lma_half_range" in rows[0]:
+        ax.plot(w, [float(r["lma_half_range"]) for r in rows], ":", color="C1", label="linear modal analysis")
     folds = [i for i, r in enumerate(rows) if r["fold"] == "1"]
     if folds:
         ax.plot([w[i] for i in folds], [a[i] for i in folds], "o", color="C3", label="fold")

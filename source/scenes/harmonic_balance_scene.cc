@@ -1,7 +1,10 @@
-// Scene "harmonic-balance": periodic steady states of a small nonlinear oscillator (a Duffing
-// spring, or a mass between two geometrically nonlinear springs) under harmonic forcing, by the
-// harmonic balance method: the frequency-response curve by continuation with folds, stability and
-// resonance peaks, and a Newmark run to steady state at chosen frequencies as the time-domain check.
+// Scene "harmonic-balance": periodic steady states of forced nonlinear structures by the harmonic
+// balance method (thesis ch. 2): a Duffing spring, a mass between two geometrically nonlinear
+// springs, thin shells, St.Venant-Kirchhoff solids (tetrahedra, per-layer materials), plane
+// triangle structures, and planar compliant mechanisms. The frequency-response curve by
+// continuation with folds, stability and resonance peaks; the linear modal analysis response for
+// comparison; one period as VTU/PVD and the tracked point's trajectory; Newmark runs to the
+// periodic steady state at chosen frequencies as the time-domain check.
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/utilities.h>
@@ -12,10 +15,14 @@
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/mesh/vertex_field_output.h>
+#include <nlmech/models/dynamics/elastic_solids.h>
+#include <nlmech/models/dynamics/mechanism.h>
 #include <nlmech/models/dynamics/spring_network.h>
 #include <nlmech/models/dynamics/thin_shell.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
+#include <nlmech/solvers/hbm/linear_modal.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
+#include <nlmech/solvers/newton/newton_solver.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -31,18 +38,66 @@ namespace nlmech
   {
     constexpr double pi = 3.14159265358979323846;
 
+    /// "a, b, c; d, e, f" -> rows of numbers, each with `width` entries (0: any).
+    std::vector<std::vector<double>> parse_rows(const std::string &text, const std::string &entry,
+                                                const std::size_t width)
+    {
+      std::vector<std::vector<double>> rows;
+      for (const auto &row : Utilities::split_string_list(text, ';'))
+        if (!row.empty())
+          {
+            rows.push_back(parse_number_list(row, entry));
+            AssertThrow(width == 0 || rows.back().size() == width,
+                        ExcMessage(entry + ": every `;`-separated entry needs " + std::to_string(width) +
+                                   " numbers (got <" + row + ">)."));
+          }
+      return rows;
+    }
+
+    unsigned int as_index(const double value, const std::string &entry)
+    {
+      AssertThrow(value >= 0 && value == std::floor(value) && value < 1e9,
+                  ExcMessage(entry + ": <" + std::to_string(value) + "> is not an index."));
+      return unsigned(value);
+    }
+
+    /// What the harmonic balance runs on: the Model with its static state, excitation and tracked
+    /// unknowns, and what is needed to write its motion.
+    struct Structure
+    {
+      Model                      model{0};
+      Eigen::VectorXd            rest; // static state (full length)
+      std::vector<HarmonicForce> forces;
+      std::vector<HarmonicDrive> drives;
+      std::vector<std::size_t>   tracked_dofs;        // one point's coordinates
+      std::size_t                tracked         = 0; // the coordinate whose half range is reported
+      unsigned int               dofs_per_vertex = 1;
+      bool                       has_mesh        = false;
+      RawSimplexMesh<3>          mesh;
+      bool                       is_mechanism = false;
+      MechanismDescription       mechanism;
+    };
+
     class HarmonicBalanceScene : public Scene
     {
     public:
       static void declare_parameters(ParameterHandler &prm)
       {
         prm.enter_subsection("Oscillator");
-        prm.declare_entry("Model", "duffing", Patterns::Selection("duffing|two-spring-mass|shell"),
-                          "duffing: m x'' + c x' + k x + k3 x^3 = F cos(w t); two-spring-mass: a mass at the "
-                          "middle between two anchors at distance 2 Span, joined by geometric springs of "
-                          "rest length L0, forced across the span (a geometric nonlinearity); shell: a thin "
-                          "shell (CST St.Venant-Kirchhoff membrane + hinge bending) on the gmsh surface mesh "
-                          "of subsection Mesh, with the subsections Shell and Structure.");
+        prm.declare_entry(
+            "Model", "duffing", Patterns::Selection("duffing|two-spring-mass|shell|solid|plane|mechanism"),
+            "duffing: m x'' + c x' + k x + k3 x^3 = F cos(w t); two-spring-mass: a mass at the middle "
+            "between "
+            "two anchors at distance 2 Span, joined by geometric springs of rest length L0, forced across "
+            "the "
+            "span (a geometric nonlinearity); shell: a thin shell (CST St.Venant-Kirchhoff membrane + hinge "
+            "bending) on the gmsh surface mesh of subsection Mesh; solid: St.Venant-Kirchhoff tetrahedra on "
+            "a "
+            "gmsh volume mesh (subsection Solid, per-layer materials); plane: plane-stress "
+            "St.Venant-Kirchhoff "
+            "triangles on a gmsh mesh in z = 0 (subsection Solid); mesh models are clamped, driven and "
+            "tracked "
+            "as subsection Structure says. mechanism: a planar compliant mechanism (subsection Mechanism).");
         prm.declare_entry("Mass", "1", Patterns::Double(0), "m [kg].");
         prm.declare_entry("Stiffness", "1", Patterns::Double(0), "k, per spring [N/m].");
         prm.declare_entry("Cubic stiffness", "1", Patterns::Double(), "k3, per spring [N/m^3].");
@@ -61,15 +116,32 @@ namespace nlmech
         prm.declare_entry("Density", "1100", Patterns::Double(0), "[kg/m^3].");
         prm.declare_entry("Thickness", "0.001", Patterns::Double(0), "[m].");
         prm.leave_subsection();
+        prm.enter_subsection("Solid");
+        prm.declare_entry("Young's modulus", "1e6", Patterns::Anything(),
+                          "One value, or one per layer (comma-separated, from the low end of the layer axis "
+                          "up) [Pa].");
+        prm.declare_entry("Poisson's ratio", "0.3", Patterns::Double(-1, 0.5), "[-].");
+        prm.declare_entry("Density", "1000", Patterns::Double(0), "[kg/m^3].");
+        prm.declare_entry("Thickness", "0.01", Patterns::Double(0), "plane: out-of-plane thickness [m].");
+        prm.declare_entry("Layer axis", "z", Patterns::Selection("x|y|z"),
+                          "Layers are equal slabs of the mesh's extent along this axis [-].");
+        prm.leave_subsection();
         prm.enter_subsection("Structure");
         prm.declare_entry("Clamped groups", "", Patterns::Anything(),
-                          "Edge or surface groups held at rest, comma-separated.");
-        prm.declare_entry("Driven groups", "handle", Patterns::Anything(),
-                          "Edge or surface groups moved harmonically: x = X + a d cos(w t) by a stiff "
-                          "penalty (thesis 2.A.5), comma-separated. Vertices along one straight edge alone "
-                          "leave the shell free to rotate about it.");
+                          "Boundary or cell groups held at rest, comma-separated.");
+        prm.declare_entry(
+            "Driven groups", "handle", Patterns::Anything(),
+            "Boundary or cell groups moved harmonically (Drive kind), comma-separated. Vertices "
+            "along one straight edge alone leave a shell free to rotate about it.");
+        prm.declare_entry(
+            "Drive kind", "translation", Patterns::Selection("translation|rotation"),
+            "translation: x = X + a d cos(w t); rotation: x = c + R(phi_0 cos(w t)) (X - c) about "
+            "Rotation axis through Rotation center, exact up to the harmonics kept.");
         prm.declare_entry("Drive direction", "0, 0, 1", Patterns::Anything(), "d, normalised [-].");
         prm.declare_entry("Drive amplitude", "0.002", Patterns::Double(0), "a [m].");
+        prm.declare_entry("Rotation axis", "1, 0, 0", Patterns::Anything(), "[-].");
+        prm.declare_entry("Rotation center", "0, 0, 0", Patterns::Anything(), "c [m].");
+        prm.declare_entry("Rotation amplitude", "0.1", Patterns::Double(0), "phi_0 [rad].");
         prm.declare_entry("Drive stiffness factor", "0", Patterns::Double(0),
                           "0: the driven vertices follow their motion exactly (eliminated); > 0: a penalty "
                           "(thesis 2.A.5) of this multiple of the largest diagonal entry of the stiffness "
@@ -80,9 +152,35 @@ namespace nlmech
         prm.declare_entry(
             "Tracked point", "0.16, 0.0275, 0", Patterns::Anything(),
             "The vertex nearest to this point is the one whose amplitude (2.3.14) is traced [m].");
+        prm.declare_entry("Tracked direction", "z", Patterns::Selection("x|y|z"),
+                          "The coordinate whose half range is plotted and reported [-].");
         prm.declare_entry("Period frames", "24", Patterns::Integer(0),
-                          "VTU frames (period.pvd) of one period at the first resonance peak, or at the end "
-                          "frequency without a peak; 0: none [-].");
+                          "Frames of one period (period.pvd for meshes, mechanism_period.csv) at the first "
+                          "resonance peak, or at the end frequency without a peak; 0: none [-].");
+        prm.leave_subsection();
+        prm.enter_subsection("Mechanism");
+        prm.declare_entry("Joints", "", Patterns::Anything(),
+                          "`x, y, m; ...` position [m] and mass [kg] per joint.");
+        prm.declare_entry("Links", "", Patterns::Anything(),
+                          "`a, b; ...` rigid links between joints (0-based).");
+        prm.declare_entry("Rigid joints", "", Patterns::Anything(),
+                          "`a, b, c; ...` the angle at b between links (a, b) and (b, c) is kept.");
+        prm.declare_entry(
+            "Springs", "", Patterns::Anything(),
+            "`link_a, u_a, w_a, link_b, u_b, w_b, k, L0; ...`: a linear spring of stiffness k "
+            "[N/m] and rest length L0 [m] (negative: its initial length) between points given in "
+            "the local frames of two links (origin at the link's first joint, axes the link "
+            "vector and its left normal).");
+        prm.declare_entry("Fixed joints", "", Patterns::Anything(), "Joints held at rest, comma-separated.");
+        prm.declare_entry(
+            "Driven joints", "", Patterns::Anything(),
+            "Joints moved by x = X + a d cos(w t) (Structure: Drive direction and amplitude, first "
+            "two components), comma-separated.");
+        prm.declare_entry("Tracked joint", "0", Patterns::Integer(0), "[-].");
+        prm.declare_entry("Link stiffness", "1e5", Patterns::Double(0), "Rigid-link penalty k_l [N/m].");
+        prm.declare_entry("Angle stiffness", "100", Patterns::Double(0),
+                          "Rigid-joint penalty k_t [N m/rad^2].");
+        prm.declare_entry("Gravity", "9.81", Patterns::Double(), "Along -y [m/s^2].");
         prm.leave_subsection();
         prm.enter_subsection("Harmonic balance");
         prm.declare_entry("Harmonics", "7", Patterns::Integer(), "N_H [-].");
@@ -94,12 +192,16 @@ namespace nlmech
         prm.declare_entry("Maximum amplitude", "100", Patterns::Double(0),
                           "Stop the curve (partial result) beyond this half range [m].");
         prm.declare_entry("Tolerance", "1e-9", Patterns::Double(0), "|h| relative to the force scale [-].");
+        prm.declare_entry(
+            "Linear modal reference", "true", Patterns::Bool(),
+            "Add the linear modal analysis response at the static state (dense eigenproblem, up "
+            "to 3000 free unknowns) to the curve's CSV and plot.");
         prm.leave_subsection();
         prm.enter_subsection("Newmark check");
-        prm.declare_entry(
-            "Frequencies", "", Patterns::Anything(),
-            "Frequencies at which Newmark (beta 1/4, gamma 1/2) from rest is run to the periodic "
-            "steady state and compared with the HBM state reached from rest [rad/s].");
+        prm.declare_entry("Frequencies", "", Patterns::Anything(),
+                          "Frequencies at which Newmark (beta 1/4, gamma 1/2) is run to the periodic steady "
+                          "state and compared with the HBM state [rad/s]. Oscillators start from rest, other "
+                          "models from the HBM state.");
         prm.declare_entry("Steps per period", "1024", Patterns::Integer(16), "[-].");
         prm.declare_entry("Period tolerance", "1e-8", Patterns::Double(0),
                           "e_p of thesis eq. (2.5.1), relative [-].");
@@ -124,6 +226,18 @@ namespace nlmech
         shell_material.density        = prm.get_double("Density");
         shell_material.thickness      = prm.get_double("Thickness");
         prm.leave_subsection();
+        prm.enter_subsection("Solid");
+        for (const double E : parse_number_list(prm.get("Young's modulus"), "Young's modulus"))
+          {
+            SolidMaterial m;
+            m.youngs_modulus = E, m.poissons_ratio = prm.get_double("Poisson's ratio");
+            m.density = prm.get_double("Density"), m.thickness = prm.get_double("Thickness");
+            m.check();
+            solid_materials.push_back(m);
+          }
+        AssertThrow(!solid_materials.empty(), ExcMessage("Solid: Young's modulus needs at least one value."));
+        layer_axis = prm.get("Layer axis") == "x" ? 0 : prm.get("Layer axis") == "y" ? 1 : 2;
+        prm.leave_subsection();
         prm.enter_subsection("Structure");
         for (const auto &g : Utilities::split_string_list(prm.get("Clamped groups"), ','))
           if (!g.empty())
@@ -131,14 +245,27 @@ namespace nlmech
         for (const auto &g : Utilities::split_string_list(prm.get("Driven groups"), ','))
           if (!g.empty())
             driven_groups.push_back(g);
+        rotation_drive  = prm.get("Drive kind") == "rotation";
         drive_direction = parse_vector<3>(prm.get("Drive direction"), "Drive direction");
         AssertThrow(drive_direction.norm() > 0, ExcMessage("Drive direction must not be zero."));
         drive_direction /= drive_direction.norm();
-        drive_amplitude        = prm.get_double("Drive amplitude");
+        drive_amplitude    = prm.get_double("Drive amplitude");
+        rotation_axis      = parse_vector<3>(prm.get("Rotation axis"), "Rotation axis");
+        rotation_center    = parse_vector<3>(prm.get("Rotation center"), "Rotation center");
+        rotation_amplitude = prm.get_double("Rotation amplitude");
+        AssertThrow(!rotation_drive || rotation_axis.norm() > 0,
+                    ExcMessage("Rotation axis must not be zero."));
         drive_stiffness_factor = prm.get_double("Drive stiffness factor");
         point_forces           = parse_point_vectors(prm.get("Point forces"), "Point forces");
         tracked_point          = Point<3>(parse_vector<3>(prm.get("Tracked point"), "Tracked point"));
+        tracked_direction      = prm.get("Tracked direction") == "x"   ? 0
+                                 : prm.get("Tracked direction") == "y" ? 1
+                                                                       : 2;
         period_frames          = prm.get_integer("Period frames");
+        prm.leave_subsection();
+        prm.enter_subsection("Mechanism");
+        if (model_kind == "mechanism")
+          parse_mechanism(prm);
         prm.leave_subsection();
         prm.enter_subsection("Harmonic balance");
         const long harmonics = prm.get_integer("Harmonics"), samples = prm.get_integer("Time samples");
@@ -156,6 +283,7 @@ namespace nlmech
         continuation.max_step           = prm.get_double("Maximum step");
         continuation.max_amplitude      = prm.get_double("Maximum amplitude");
         continuation.relative_tolerance = prm.get_double("Tolerance");
+        linear_reference                = prm.get_bool("Linear modal reference");
         prm.leave_subsection();
         prm.enter_subsection("Newmark check");
         check_frequencies = parse_number_list(prm.get("Frequencies"), "Frequencies");
@@ -169,32 +297,20 @@ namespace nlmech
 
       void run(RunContext &context) override
       {
-        Model                      model(0);
-        std::size_t                tracked = 0;
-        std::vector<HarmonicForce> forces;
-        std::vector<HarmonicDrive> drives;
-        std::vector<std::size_t>   tracked_dofs;
-        if (model_kind == "shell")
-          {
-            TimerOutput::Scope t(context.timer, "mesh and shell model");
-            build_shell(context, model, forces, drives, tracked_dofs);
-            tracked = tracked_dofs[2];
-          }
-        else
-          {
-            model        = build_model();
-            tracked      = model_kind == "duffing" ? 1 : 3;
-            forces       = {{tracked, force, 0.0}};
-            tracked_dofs = {tracked};
-          }
-        const HarmonicBalance hb(model, settings, forces, drives);
+        Structure s;
+        {
+          TimerOutput::Scope t(context.timer, "model");
+          build_structure(context, s);
+        }
+        const HarmonicBalance hb(s.model, settings, s.forces, s.drives);
         context.summary.add_string("model", model_kind);
         context.summary.add_number("harmonics", settings.n_harmonics);
         context.summary.add_number("time_samples", hb.n_samples());
         context.summary.add_number("unknowns", hb.n_unknowns());
+        context.summary.add_number("free_unknowns", hb.n_free());
 
         ProgressReporter progress("frequency response", 1.0, context.comm, context.pcout.get_stream());
-        continuation.tracked_dofs = tracked_dofs;
+        continuation.tracked_dofs = s.tracked_dofs;
         double reported           = 0;
         continuation.progress     = [&](double done) {
           if (done >= reported + 0.1)
@@ -203,22 +319,79 @@ namespace nlmech
         FrequencyResponse frc;
         {
           TimerOutput::Scope t(context.timer, "frequency response (HBM continuation)");
-          frc = trace_frequency_response(hb, hb.static_coefficients(rest_state(model)), continuation);
+          frc = trace_frequency_response(hb, hb.static_coefficients(s.rest), continuation);
         }
-        std::ostringstream csv, peaks;
-        csv << "omega,amplitude_A,half_range,stable,fold,max_floquet_multiplier,corrector_iterations\n";
-        unsigned int folds = 0, unstable = 0;
-        for (const auto &p : frc.points)
+        // Linear modal analysis at the static state, at the same frequencies.
+        std::vector<std::pair<double, double>> lma; // (amplitude A, half range) per point
+        if (linear_reference && hb.n_free() <= 3000 && !frc.points.empty())
           {
-            csv << json_number(p.omega) << "," << json_number(p.amplitude) << "," << json_number(p.half_range)
-                << "," << p.stable << "," << p.fold << "," << json_number(p.max_multiplier) << ","
-                << p.iterations << "\n";
+            TimerOutput::Scope       t(context.timer, "linear modal analysis");
+            const LinearModes        modes = linear_modes(hb, s.rest);
+            std::vector<std::size_t> tracked_free;
+            long                     half_index = -1;
+            for (const std::size_t d : s.tracked_dofs)
+              {
+                const auto it = std::find(hb.free().begin(), hb.free().end(), d);
+                if (it != hb.free().end())
+                  tracked_free.push_back(std::size_t(it - hb.free().begin()));
+                if (it != hb.free().end() && d == s.tracked)
+                  half_index = long(it - hb.free().begin());
+              }
+            for (const auto &p : frc.points)
+              {
+                const Eigen::VectorXcd U = linear_modal_response(hb, modes, p.omega);
+                lma.emplace_back(linear_amplitude(U, p.omega, tracked_free),
+                                 half_index >= 0 ? std::abs(U[half_index]) : 0.0);
+              }
+            for (Eigen::Index m = 0; m < std::min<Eigen::Index>(3, modes.frequencies.size()); ++m)
+              context.summary.add_figure("natural_frequency_" + std::to_string(m + 1), modes.frequencies[m],
+                                         "rad/s");
+            context.pcout << "linear modes: lowest natural frequencies";
+            for (Eigen::Index m = 0; m < std::min<Eigen::Index>(4, modes.frequencies.size()); ++m)
+              context.pcout << " " << modes.frequencies[m];
+            context.pcout << " rad/s" << std::endl;
+          }
+        write_response(context, hb, s, frc, lma);
+        if (period_frames > 0 && context.is_root() && !frc.points.empty())
+          {
+            TimerOutput::Scope     t(context.timer, "output (one period)");
+            const Eigen::VectorXd &z = frc.peaks.empty() ? frc.points.back().z : frc.peaks.front().z;
+            const double           w = frc.peaks.empty() ? frc.points.back().omega : frc.peaks.front().omega;
+            write_period(context, hb, s, z, w);
+          }
+        if (!frc.completed)
+          {
+            context.partial_reason = "frequency response stopped: " + frc.stop_reason;
+            return;
+          }
+        newmark_checks(context, hb, s);
+      }
+
+    private:
+      void write_response(RunContext &context, const HarmonicBalance &hb, const Structure &s,
+                          const FrequencyResponse &frc, const std::vector<std::pair<double, double>> &lma)
+      {
+        std::ostringstream csv, peaks;
+        csv << "omega,amplitude_A,half_range,stable,fold,max_floquet_multiplier,corrector_iterations";
+        if (!lma.empty())
+          csv << ",lma_amplitude_A,lma_half_range";
+        csv << "\n";
+        unsigned int folds = 0, unstable = 0;
+        for (std::size_t i = 0; i < frc.points.size(); ++i)
+          {
+            const auto &p = frc.points[i];
+            csv << json_number(p.omega) << "," << json_number(p.amplitude) << ","
+                << json_number(hb.half_range(p.z, p.omega, s.tracked)) << "," << p.stable << "," << p.fold
+                << "," << json_number(p.max_multiplier) << "," << p.iterations;
+            if (!lma.empty())
+              csv << "," << json_number(lma[i].first) << "," << json_number(lma[i].second);
+            csv << "\n";
             folds += p.fold, unstable += p.stable == 0;
           }
         peaks << "omega,amplitude_A,half_range\n";
         for (const auto &p : frc.peaks)
           peaks << json_number(p.omega) << "," << json_number(p.amplitude) << ","
-                << json_number(hb.half_range(p.z, p.omega, tracked)) << "\n";
+                << json_number(hb.half_range(p.z, p.omega, s.tracked)) << "\n";
         context.summary.add_number("points", frc.points.size());
         context.summary.add_number("folds", folds);
         context.summary.add_number("unstable_points", unstable);
@@ -227,8 +400,21 @@ namespace nlmech
           {
             context.summary.add_figure("first_peak_frequency", frc.peaks.front().omega, "rad/s");
             context.summary.add_figure("first_peak_half_range",
-                                       hb.half_range(frc.peaks.front().z, frc.peaks.front().omega, tracked),
+                                       hb.half_range(frc.peaks.front().z, frc.peaks.front().omega, s.tracked),
                                        "m");
+          }
+        if (!lma.empty())
+          {
+            // The HBM-to-LMA ratio of the tracked half range where the motion is smallest (the
+            // nearly linear end) and at the first peak frequency.
+            std::size_t smallest = 0;
+            for (std::size_t i = 0; i < frc.points.size(); ++i)
+              if (frc.points[i].amplitude < frc.points[smallest].amplitude)
+                smallest = i;
+            const auto &p = frc.points[smallest];
+            if (lma[smallest].second > 0)
+              context.summary.add_figure("hbm_over_lma_at_smallest_motion",
+                                         hb.half_range(p.z, p.omega, s.tracked) / lma[smallest].second, "1");
           }
         context.summary.add_number("continuation_factorizations", frc.factorizations);
         context.summary.add_number("continuation_rejected_steps", frc.rejected_steps);
@@ -245,141 +431,324 @@ namespace nlmech
           {
             write_file_atomically(context.output.file("frequency_response.csv"), csv.str());
             write_file_atomically(context.output.file("resonance_peaks.csv"), peaks.str());
-            plot(context);
+            run_plot("frequency_response.py", {context.output.file("frequency_response.csv"),
+                                               context.output.file("frequency_response.png"),
+                                               "HBM frequency response (" + model_kind + ")",
+                                               context.output.file("resonance_peaks.csv")});
           }
-        if (model_kind == "shell" && period_frames > 0 && context.is_root() && !frc.points.empty())
+      }
+
+      /// One period at frequency w: the tracked point's trajectory (CSV, PNG), VTU frames of meshes,
+      /// joint positions of mechanisms (CSV, PNG) with their constraint violations.
+      void write_period(RunContext &context, const HarmonicBalance &hb, const Structure &s,
+                        const Eigen::VectorXd &z, const double w) const
+      {
+        std::vector<double> times;
+        for (unsigned int f = 0; f < period_frames; ++f)
+          times.push_back(2 * pi / w * f / period_frames);
+        const Eigen::MatrixXd x = hb.positions_at(z, w, times);
+        context.summary.add_figure("period_frames_frequency", w, "rad/s");
+        {
+          std::vector<double> fine(256);
+          for (unsigned int j = 0; j < fine.size(); ++j)
+            fine[j] = 2 * pi / w * j / fine.size();
+          const Eigen::MatrixXd xf = hb.positions_at(z, w, fine);
+          std::ostringstream    csv;
+          csv << "t,x,y,z\n";
+          for (unsigned int j = 0; j < fine.size(); ++j)
+            {
+              csv << json_number(fine[j]);
+              for (unsigned int i = 0; i < 3; ++i)
+                csv << "," << json_number(i < s.tracked_dofs.size() ? xf(s.tracked_dofs[i], j) : 0.0);
+              csv << "\n";
+            }
+          write_file_atomically(context.output.file("trajectory.csv"), csv.str());
+          std::ostringstream title;
+          title << "tracked point over one period at w = " << w << " rad/s";
+          run_plot("trajectory.py", {context.output.file("trajectory.csv"),
+                                     context.output.file("trajectory.png"), title.str()});
+        }
+        if (s.has_mesh)
           {
-            TimerOutput::Scope     t(context.timer, "output (period VTU/PVD)");
-            const Eigen::VectorXd &z = frc.peaks.empty() ? frc.points.back().z : frc.peaks.front().z;
-            const double           w = frc.peaks.empty() ? frc.points.back().omega : frc.peaks.front().omega;
-            std::vector<double>    times;
-            for (unsigned int f = 0; f < period_frames; ++f)
-              times.push_back(2 * pi / w * f / period_frames);
-            const Eigen::MatrixXd x = hb.positions_at(z, w, times);
+            const unsigned int                                                d = s.dofs_per_vertex;
             std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> frames;
             for (unsigned int f = 0; f < period_frames; ++f)
-              frames.push_back({{"displacement", Eigen::VectorXd(x.col(f) - rest_positions)}});
-            write_vertex_fields_pvd(shell_mesh,
+              {
+                Eigen::VectorXd u = Eigen::VectorXd::Zero(3 * s.mesh.vertices.size());
+                for (std::size_t v = 0; v < s.mesh.vertices.size(); ++v)
+                  for (unsigned int i = 0; i < d; ++i)
+                    u[3 * v + i] = x(d * v + i, f) - s.mesh.vertices[v][i];
+                frames.push_back({{"displacement", u}});
+              }
+            write_vertex_fields_pvd(s.mesh,
                                     std::filesystem::path(context.output.file("period.pvd")).parent_path(),
                                     "period", times, frames);
-            context.summary.add_figure("period_frames_frequency", w, "rad/s");
           }
-        if (!frc.completed)
+        if (s.is_mechanism)
           {
-            context.partial_reason = "frequency response stopped: " + frc.stop_reason;
+            std::ostringstream    csv;
+            std::array<double, 2> worst = {{0, 0}};
+            csv << "t";
+            for (std::size_t j = 0; j < s.mechanism.joints.size(); ++j)
+              csv << ",x" << j << ",y" << j;
+            csv << "\n";
+            for (unsigned int f = 0; f < period_frames; ++f)
+              {
+                csv << json_number(times[f]);
+                for (Eigen::Index i = 0; i < x.rows(); ++i)
+                  csv << "," << json_number(x(i, f));
+                csv << "\n";
+                const auto v = mechanism_constraint_violation(s.mechanism, x.col(f));
+                worst[0] = std::max(worst[0], v[0]), worst[1] = std::max(worst[1], v[1]);
+              }
+            std::ostringstream links;
+            for (const auto &l : s.mechanism.links)
+              links << l[0] << "-" << l[1] << " ";
+            write_file_atomically(context.output.file("mechanism_period.csv"), csv.str());
+            run_plot("mechanism.py", {context.output.file("mechanism_period.csv"),
+                                      context.output.file("mechanism_period.png"), links.str()});
+            context.summary.add_figure("max_link_length_change_relative", worst[0], "1");
+            context.summary.add_figure("max_rigid_angle_change", worst[1], "rad");
+          }
+      }
+
+      void run_plot(const std::string &script, const std::vector<std::string> &arguments) const
+      {
+        std::string command =
+            std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR + "/contrib/plot/" + script + "'";
+        for (const auto &a : arguments)
+          command += " '" + a + "'";
+        if (std::system(command.c_str()) != 0)
+          std::cerr << "nlmech: warning: the plot " << script << " could not be drawn (python3/matplotlib)."
+                    << std::endl;
+      }
+
+      void build_structure(RunContext &context, Structure &s)
+      {
+        if (model_kind == "duffing" || model_kind == "two-spring-mass")
+          {
+            s.model        = model_kind == "duffing" ? make_duffing_model(mass, k, k3)
+                                                     : make_two_spring_mass_model(mass, k, k3, span, rest_length);
+            s.tracked      = model_kind == "duffing" ? 1 : 3;
+            s.forces       = {{s.tracked, force, 0.0}};
+            s.tracked_dofs = {s.tracked};
+            s.rest         = Eigen::VectorXd::Zero(s.model.n_unknowns());
+            for (const auto &f : s.model.fixed())
+              s.rest[f.first] = f.second;
             return;
           }
-        newmark_checks(context, hb, model, tracked);
+        if (model_kind == "mechanism")
+          build_mechanism(context, s);
+        else
+          build_mesh_structure(context, s);
+        // A static state under constant loads (gravity) with the drives at their centres: the
+        // start of the curve.
+        bool constant_loads = false;
+        for (const auto &t : s.model.terms())
+          constant_loads = constant_loads || dynamic_cast<const ConstantForceTerm *>(t.get()) != nullptr;
+        if (constant_loads)
+          {
+            Model held = s.model;
+            for (const auto &d : s.drives)
+              held.fix(d.dof, d.center);
+            const NewtonResult r = minimize_with_newton(held, s.rest);
+            context.pcout << "static state under gravity: " << r.iterations << " Newton iterations"
+                          << std::endl;
+            context.summary.add_number("static_newton_iterations", r.iterations);
+          }
       }
 
-    private:
-      Model build_model() const
+      /// Vertices of a boundary group or a cell group of the mesh.
+      static std::set<unsigned int> group_vertices(const RawSimplexMesh<3> &m, const std::string &group)
       {
-        return model_kind == "duffing" ? make_duffing_model(mass, k, k3)
-                                       : make_two_spring_mass_model(mass, k, k3, span, rest_length);
+        std::set<unsigned int> vertices;
+        if (m.groups.material_ids.count(group))
+          {
+            const unsigned int id = m.groups.material_ids.at(group);
+            for (std::size_t c = 0; c < m.cells.size(); ++c)
+              if (m.cell_material[c] == id)
+                vertices.insert(m.cells[c].begin(), m.cells[c].end());
+          }
+        else
+          {
+            const unsigned int id = m.groups.boundary_id(group); // clear error if missing
+            for (std::size_t f = 0; f < m.boundary_faces.size(); ++f)
+              if (m.boundary_face_id[f] == id)
+                vertices.insert(m.boundary_faces[f].begin(), m.boundary_faces[f].end());
+          }
+        AssertThrow(!vertices.empty(), ExcMessage("The group <" + group + "> has no vertices."));
+        return vertices;
       }
 
-      Eigen::VectorXd rest_state(const Model &model) const
+      /// Shell, solid or plane structure on a gmsh mesh: clamped, driven, forced and tracked vertices.
+      void build_mesh_structure(RunContext &context, Structure &s)
       {
+        const int cell_dim = model_kind == "solid" ? 3 : 2;
+        s.mesh             = read_simplex_mesh<3>(mesh.options(mesh.element_size), cell_dim);
+        check_simplex_mesh(s.mesh, cell_dim);
+        s.has_mesh = true;
         if (model_kind == "shell")
-          return rest_positions;
-        Eigen::VectorXd x = Eigen::VectorXd::Zero(model.n_unknowns());
-        for (const auto &f : model.fixed())
-          x[f.first] = f.second;
-        return x;
-      }
-
-      /// The shell Model, its clamped and driven vertices and its harmonic point forces.
-      void build_shell(RunContext &context, Model &model, std::vector<HarmonicForce> &forces,
-                       std::vector<HarmonicDrive> &drives, std::vector<std::size_t> &tracked_dofs)
-      {
-        shell_mesh = read_simplex_mesh<3>(mesh.options(mesh.element_size), 2);
-        check_simplex_mesh(shell_mesh, 2);
-        ShellModel shell = make_shell_model(shell_mesh, shell_material);
-        model            = std::move(shell.model);
-        rest_positions   = shell.rest_positions;
-        // Vertices of an edge group or of a surface (cell) group.
-        auto group_vertices = [&](const std::string &group) {
-          std::set<unsigned int> vertices;
-          if (shell_mesh.groups.material_ids.count(group))
-            {
-              const unsigned int id = shell_mesh.groups.material_ids.at(group);
-              for (std::size_t c = 0; c < shell_mesh.cells.size(); ++c)
-                if (shell_mesh.cell_material[c] == id)
-                  vertices.insert(shell_mesh.cells[c].begin(), shell_mesh.cells[c].end());
-            }
-          else
-            {
-              const unsigned int id = shell_mesh.groups.boundary_id(group); // clear error if missing
-              for (std::size_t f = 0; f < shell_mesh.boundary_faces.size(); ++f)
-                if (shell_mesh.boundary_face_id[f] == id)
-                  vertices.insert(shell_mesh.boundary_faces[f].begin(), shell_mesh.boundary_faces[f].end());
-            }
-          AssertThrow(!vertices.empty(), ExcMessage("The group <" + group + "> has no vertices."));
-          return vertices;
-        };
+          {
+            ShellModel shell = make_shell_model(s.mesh, shell_material);
+            s.model = std::move(shell.model), s.rest = shell.rest_positions, s.dofs_per_vertex = 3;
+          }
+        else
+          {
+            const auto layers = cell_layers(s.mesh, layer_axis, solid_materials.size());
+            SolidModel solid  = model_kind == "solid" ? make_tet_solid_model(s.mesh, solid_materials, layers)
+                                                      : make_plane_model(s.mesh, solid_materials, layers);
+            s.model = std::move(solid.model), s.rest = solid.rest_positions, s.dofs_per_vertex = solid.dim;
+          }
+        const unsigned int d = s.dofs_per_vertex;
         for (const auto &g : clamped_groups)
-          for (const unsigned int v : group_vertices(g))
-            for (unsigned int i = 0; i < 3; ++i)
-              model.fix(3 * v + i, rest_positions[3 * v + i]);
+          for (const unsigned int v : group_vertices(s.mesh, g))
+            for (unsigned int i = 0; i < d; ++i)
+              s.model.fix(d * v + i, s.rest[d * v + i]);
         AssertThrow(!driven_groups.empty() || !point_forces.empty(),
-                    ExcMessage("The shell needs driven groups or point forces: nothing excites it."));
+                    ExcMessage("The structure needs driven groups or point forces: nothing excites it."));
         double largest_diagonal = 0;
         {
-          const Eigen::SparseMatrix<double> K = model.hessian(rest_positions);
+          const Eigen::SparseMatrix<double> K = s.model.hessian(s.rest);
           for (Eigen::Index i = 0; i < K.rows(); ++i)
             largest_diagonal = std::max(largest_diagonal, K.coeff(i, i));
         }
-        std::size_t n_driven = 0;
+        std::set<unsigned int> driven;
         for (const auto &g : driven_groups)
-          for (const unsigned int v : group_vertices(g))
+          for (const unsigned int v : group_vertices(s.mesh, g))
             {
-              AssertThrow(!model.is_fixed(3 * v),
+              AssertThrow(!s.model.is_fixed(d * v),
                           ExcMessage("A driven vertex is also clamped (group <" + g + ">)."));
-              for (unsigned int i = 0; i < 3; ++i)
-                drives.push_back({3 * v + i, drive_amplitude * drive_direction[i], 0.0,
-                                  drive_stiffness_factor * largest_diagonal, rest_positions[3 * v + i]});
-              ++n_driven;
+              driven.insert(v);
             }
+        const double penalty = drive_stiffness_factor * largest_diagonal;
+        if (rotation_drive)
+          {
+            std::vector<std::array<double, 3>>      points;
+            std::vector<std::array<std::size_t, 3>> dofs;
+            for (const unsigned int v : driven)
+              {
+                points.push_back({{s.mesh.vertices[v][0], s.mesh.vertices[v][1], s.mesh.vertices[v][2]}});
+                dofs.push_back({{d * v, d * v + 1, d * v + 2}});
+              }
+            AssertThrow(d == 3,
+                        ExcMessage("Rotation drives need a 3D model (shell or solid); a plane structure is "
+                                   "driven by translation."));
+            s.drives = rotation_drives(points, dofs, {{rotation_axis[0], rotation_axis[1], rotation_axis[2]}},
+                                       {{rotation_center[0], rotation_center[1], rotation_center[2]}},
+                                       rotation_amplitude, settings.n_harmonics, penalty);
+          }
+        else
+          for (const unsigned int v : driven)
+            for (unsigned int i = 0; i < d; ++i)
+              s.drives.push_back(
+                  {d * v + i, drive_amplitude * drive_direction[i], 0.0, penalty, s.rest[d * v + i], {}, {}});
         auto nearest = [&](const Point<3> &p) {
           std::size_t best = 0;
-          for (std::size_t v = 1; v < shell_mesh.vertices.size(); ++v)
-            if (shell_mesh.vertices[v].distance(p) < shell_mesh.vertices[best].distance(p))
+          for (std::size_t v = 1; v < s.mesh.vertices.size(); ++v)
+            if (s.mesh.vertices[v].distance(p) < s.mesh.vertices[best].distance(p))
               best = v;
           return best;
         };
         for (const auto &pf : point_forces)
           {
             const std::size_t v = nearest(pf.first);
-            for (unsigned int i = 0; i < 3; ++i)
+            for (unsigned int i = 0; i < d; ++i)
               if (pf.second[i] != 0)
-                forces.push_back({3 * v + i, pf.second[i], 0.0});
+                s.forces.push_back({d * v + i, pf.second[i], 0.0});
           }
         const std::size_t t = nearest(tracked_point);
-        tracked_dofs        = {3 * t, 3 * t + 1, 3 * t + 2};
-        context.pcout << "shell: " << shell_mesh.vertices.size() << " vertices, " << shell_mesh.cells.size()
-                      << " triangles, " << n_driven << " driven vertices, tracked vertex " << t << " at "
-                      << shell_mesh.vertices[t] << std::endl;
-        context.summary.add_number("n_vertices", shell_mesh.vertices.size());
-        context.summary.add_number("n_triangles", shell_mesh.cells.size());
+        for (unsigned int i = 0; i < d; ++i)
+          s.tracked_dofs.push_back(d * t + i);
+        AssertThrow(tracked_direction < d,
+                    ExcMessage("Tracked direction z does not exist in a plane model."));
+        s.tracked = d * t + tracked_direction;
+        AssertThrow(!s.model.is_fixed(s.tracked), ExcMessage("The tracked vertex is clamped."));
+        context.pcout << model_kind << ": " << s.mesh.vertices.size() << " vertices, " << s.mesh.cells.size()
+                      << " cells, " << solid_materials.size() << " material layer(s), " << driven.size()
+                      << " driven vertices, tracked vertex " << t << " at " << s.mesh.vertices[t]
+                      << std::endl;
+        context.summary.add_number("n_vertices", s.mesh.vertices.size());
+        context.summary.add_number("n_cells", s.mesh.cells.size());
       }
 
-      void plot(RunContext &context) const
+      void parse_mechanism(ParameterHandler &prm)
       {
-        const std::string script  = std::string(NLMECH_SOURCE_DIR) + "/contrib/plot/frequency_response.py";
-        const std::string command = std::string(NLMECH_PYTHON) + " '" + script + "' '" +
-                                    context.output.file("frequency_response.csv") + "' '" +
-                                    context.output.file("frequency_response.png") +
-                                    "' 'HBM frequency response (" + model_kind + ")' '" +
-                                    context.output.file("resonance_peaks.csv") + "'";
-        if (std::system(command.c_str()) != 0)
-          std::cerr << "nlmech: warning: the frequency-response plot could not be drawn (python3/matplotlib)."
-                    << std::endl;
+        MechanismDescription &m = mechanism;
+        for (const auto &row : parse_rows(prm.get("Joints"), "Joints", 3))
+          m.joints.push_back({{row[0], row[1]}}), m.masses.push_back(row[2]);
+        for (const auto &row : parse_rows(prm.get("Links"), "Links", 2))
+          m.links.push_back({{as_index(row[0], "Links"), as_index(row[1], "Links")}});
+        for (const auto &row : parse_rows(prm.get("Rigid joints"), "Rigid joints", 3))
+          m.rigid_angles.push_back({{as_index(row[0], "Rigid joints"), as_index(row[1], "Rigid joints"),
+                                     as_index(row[2], "Rigid joints")}});
+        for (const auto &row : parse_rows(prm.get("Springs"), "Springs", 8))
+          {
+            MechanismSpring sp;
+            sp.link_a = as_index(row[0], "Springs"), sp.u_a = row[1], sp.w_a = row[2];
+            sp.link_b = as_index(row[3], "Springs"), sp.u_b = row[4], sp.w_b = row[5];
+            sp.stiffness = row[6], sp.rest_length = row[7];
+            m.springs.push_back(sp);
+          }
+        for (const double j : parse_number_list(prm.get("Fixed joints"), "Fixed joints"))
+          fixed_joints.push_back(as_index(j, "Fixed joints"));
+        for (const double j : parse_number_list(prm.get("Driven joints"), "Driven joints"))
+          driven_joints.push_back(as_index(j, "Driven joints"));
+        tracked_joint     = prm.get_integer("Tracked joint");
+        m.link_stiffness  = prm.get_double("Link stiffness");
+        m.angle_stiffness = prm.get_double("Angle stiffness");
+        m.gravity         = prm.get_double("Gravity");
+        AssertThrow(!m.joints.empty() && !m.links.empty(),
+                    ExcMessage("Mechanism: Joints and Links are needed."));
+        for (const unsigned int j : fixed_joints)
+          AssertThrow(j < m.joints.size(),
+                      ExcMessage("Mechanism: fixed joint " + std::to_string(j) + " is missing."));
+        for (const unsigned int j : driven_joints)
+          AssertThrow(j < m.joints.size(),
+                      ExcMessage("Mechanism: driven joint " + std::to_string(j) + " is missing."));
+        AssertThrow(tracked_joint < m.joints.size(), ExcMessage("Mechanism: the tracked joint is missing."));
+      }
+
+      void build_mechanism(RunContext &context, Structure &s) const
+      {
+        MechanismModel mech = make_mechanism_model(mechanism);
+        s.model = std::move(mech.model), s.rest = mech.rest_positions, s.dofs_per_vertex = 2;
+        s.is_mechanism = true, s.mechanism = mechanism;
+        for (const unsigned int j : fixed_joints)
+          for (unsigned int i = 0; i < 2; ++i)
+            s.model.fix(2 * j + i, s.rest[2 * j + i]);
+        AssertThrow(!driven_joints.empty() || !point_forces.empty(),
+                    ExcMessage("The mechanism needs driven joints or point forces: nothing excites it."));
+        for (const unsigned int j : driven_joints)
+          {
+            AssertThrow(!s.model.is_fixed(2 * j), ExcMessage("A driven joint is also fixed."));
+            for (unsigned int i = 0; i < 2; ++i)
+              s.drives.push_back(
+                  {2 * j + i, drive_amplitude * drive_direction[i], 0.0, 0.0, s.rest[2 * j + i], {}, {}});
+          }
+        for (const auto &pf : point_forces)
+          {
+            std::size_t best = 0;
+            for (std::size_t j = 1; j < mechanism.joints.size(); ++j)
+              if (std::hypot(mechanism.joints[j][0] - pf.first[0], mechanism.joints[j][1] - pf.first[1]) <
+                  std::hypot(mechanism.joints[best][0] - pf.first[0],
+                             mechanism.joints[best][1] - pf.first[1]))
+                best = j;
+            for (unsigned int i = 0; i < 2; ++i)
+              if (pf.second[i] != 0)
+                s.forces.push_back({2 * best + i, pf.second[i], 0.0});
+          }
+        s.tracked_dofs = {2 * tracked_joint, 2 * tracked_joint + 1};
+        AssertThrow(tracked_direction < 2,
+                    ExcMessage("Tracked direction z does not exist in a planar mechanism."));
+        s.tracked = 2 * tracked_joint + tracked_direction;
+        AssertThrow(!s.model.is_fixed(s.tracked), ExcMessage("The tracked joint is fixed."));
+        context.pcout << "mechanism: " << mechanism.joints.size() << " joints, " << mechanism.links.size()
+                      << " rigid links, " << mechanism.rigid_angles.size() << " rigid joints, "
+                      << mechanism.springs.size() << " springs" << std::endl;
       }
 
       /// HBM state reached from rest (Newton from the linear response) against Newmark from rest.
-      void newmark_checks(RunContext &context, const HarmonicBalance &hb, const Model &model,
-                          std::size_t tracked) const
+      void newmark_checks(RunContext &context, const HarmonicBalance &hb, const Structure &st) const
       {
         if (check_frequencies.empty())
           return;
@@ -395,10 +764,11 @@ namespace nlmech
             // started from Newmark's last period, so both are on the same branch). Shells: a flat
             // sheet started from rest is a hard Newton problem in the first steps, so Newmark starts
             // from the HBM state (thesis 2.5.1 does either) and must stay on it.
-            const Eigen::VectorXd x_rest = rest_state(model);
-            Eigen::VectorXd       z      = hb.static_coefficients(x_rest);
+            const Eigen::VectorXd x_rest  = st.rest;
+            const std::size_t     tracked = st.tracked;
+            Eigen::VectorXd       z       = hb.static_coefficients(x_rest);
             Eigen::VectorXd       x0 = x_rest, v0 = Eigen::VectorXd::Zero(x_rest.size());
-            if (model_kind == "shell")
+            if (model_kind != "duffing" && model_kind != "two-spring-mass")
               {
                 const PeriodicSolveResult r = solve_with_excitation_ramp(hb, z, w);
                 AssertThrow(r.converged,
@@ -409,7 +779,7 @@ namespace nlmech
             AssertThrow(nm.converged, ExcMessage("Newmark did not reach a periodic steady state at w = " +
                                                  std::to_string(w) + " rad/s in " +
                                                  std::to_string(nm.periods) + " periods."));
-            if (model_kind != "shell")
+            if (model_kind == "duffing" || model_kind == "two-spring-mass")
               {
                 std::vector<double> t(newmark.steps_per_period);
                 const std::size_t   n = hb.n_free();
@@ -457,20 +827,25 @@ namespace nlmech
           }
       }
 
-      MeshParameters                                 mesh;
-      ShellMaterial                                  shell_material;
-      std::vector<std::string>                       clamped_groups, driven_groups;
-      Tensor<1, 3>                                   drive_direction;
-      double                                         drive_amplitude = 0, drive_stiffness_factor = 1e3;
+      MeshParameters             mesh;
+      ShellMaterial              shell_material;
+      std::vector<SolidMaterial> solid_materials;
+      unsigned int               layer_axis = 2;
+      std::vector<std::string>   clamped_groups, driven_groups;
+      bool                       rotation_drive = false;
+      Tensor<1, 3>               drive_direction, rotation_axis, rotation_center;
+      double                     drive_amplitude = 0, drive_stiffness_factor = 0, rotation_amplitude = 0;
       std::vector<std::pair<Point<3>, Tensor<1, 3>>> point_forces;
       Point<3>                                       tracked_point;
-      unsigned int                                   period_frames = 0;
-      RawSimplexMesh<3>                              shell_mesh;
-      Eigen::VectorXd                                rest_positions;
+      unsigned int                                   tracked_direction = 2, period_frames = 0;
+      MechanismDescription                           mechanism;
+      std::vector<unsigned int>                      fixed_joints, driven_joints;
+      unsigned int                                   tracked_joint = 0;
       std::string                                    model_kind;
       double                  mass = 1, k = 1, k3 = 1, span = 1, rest_length = 0.8, force = 0.5;
       HarmonicBalanceSettings settings;
       ContinuationSettings    continuation;
+      bool                    linear_reference = true;
       std::vector<double>     check_frequencies;
       NewmarkSettings         newmark;
     };
@@ -479,8 +854,10 @@ namespace nlmech
   NLMECH_REGISTER_SCENE(harmonic_balance,
                         (SceneInfo{
                             "harmonic-balance",
-                            "Periodic steady states of a forced nonlinear oscillator by harmonic balance: "
-                            "frequency-response curve, folds, stability, resonance peaks, Newmark check.",
+                            "Periodic steady states of forced nonlinear structures (oscillators, shells, "
+                            "solids, plane structures, compliant mechanisms) by harmonic balance: "
+                            "frequency-response curve, folds, stability, resonance peaks, linear modal "
+                            "reference, Newmark check.",
                             &HarmonicBalanceScene::declare_parameters,
                             [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
                               return std::make_unique<HarmonicBalanceScene>(prm);

@@ -128,6 +128,72 @@ namespace nlmech
 
   HarmonicBalance::~HarmonicBalance() = default;
 
+  double HarmonicDrive::motion(const double theta) const
+  {
+    double x = amplitude * std::cos(theta + phase);
+    for (std::size_t k = 1; k <= sine.size(); ++k)
+      x += sine[k - 1] * std::sin(double(k) * theta);
+    for (std::size_t k = 1; k <= cosine.size(); ++k)
+      x += cosine[k - 1] * std::cos(double(k) * theta);
+    return x;
+  }
+
+  double HarmonicDrive::velocity(const double theta, const double omega) const
+  {
+    double v = -omega * amplitude * std::sin(theta + phase);
+    for (std::size_t k = 1; k <= sine.size(); ++k)
+      v += double(k) * omega * sine[k - 1] * std::cos(double(k) * theta);
+    for (std::size_t k = 1; k <= cosine.size(); ++k)
+      v -= double(k) * omega * cosine[k - 1] * std::sin(double(k) * theta);
+    return v;
+  }
+
+  std::vector<HarmonicDrive> rotation_drives(const std::vector<std::array<double, 3>>      &points,
+                                             const std::vector<std::array<std::size_t, 3>> &dofs,
+                                             const std::array<double, 3>                   &axis_in,
+                                             const std::array<double, 3> &c, const double angle_amplitude,
+                                             const unsigned int n_harmonics, const double stiffness)
+  {
+    AssertThrow(points.size() == dofs.size(),
+                dealii::ExcMessage("rotation_drives: one dof triple per point."));
+    const double norm =
+        std::sqrt(axis_in[0] * axis_in[0] + axis_in[1] * axis_in[1] + axis_in[2] * axis_in[2]);
+    AssertThrow(norm > 0, dealii::ExcMessage("The rotation axis must not be zero."));
+    const std::array<double, 3> a = {{axis_in[0] / norm, axis_in[1] / norm, axis_in[2] / norm}};
+    // Fourier coefficients by the trapezoidal rule on M samples: exact for trigonometric
+    // polynomials of degree < M, and x(theta) is one up to J_M(phi_0), far below round-off.
+    const unsigned int         M = std::max(64u, 8 * n_harmonics);
+    std::vector<HarmonicDrive> drives;
+    for (std::size_t p = 0; p < points.size(); ++p)
+      {
+        const std::array<double, 3> r     = {{points[p][0] - c[0], points[p][1] - c[1], points[p][2] - c[2]}};
+        const double                along = r[0] * a[0] + r[1] * a[1] + r[2] * a[2];
+        const std::array<double, 3> axr   = {
+              {a[1] * r[2] - a[2] * r[1], a[2] * r[0] - a[0] * r[2], a[0] * r[1] - a[1] * r[0]}};
+        for (int i = 0; i < 3; ++i)
+          {
+            HarmonicDrive d;
+            d.dof = dofs[p][i], d.amplitude = 0, d.stiffness = stiffness;
+            d.sine.assign(n_harmonics, 0.0), d.cosine.assign(n_harmonics, 0.0);
+            double mean = 0;
+            for (unsigned int j = 0; j < M; ++j)
+              {
+                const double theta = 2 * pi * j / M, phi = angle_amplitude * std::cos(theta);
+                // Rodrigues: R r = r cos(phi) + (a x r) sin(phi) + a (a . r)(1 - cos(phi))
+                const double x =
+                    c[i] + r[i] * std::cos(phi) + axr[i] * std::sin(phi) + a[i] * along * (1 - std::cos(phi));
+                mean += x / M;
+                for (unsigned int k = 1; k <= n_harmonics; ++k)
+                  d.sine[k - 1] += 2.0 / M * x * std::sin(k * theta),
+                      d.cosine[k - 1] += 2.0 / M * x * std::cos(k * theta);
+              }
+            d.center = mean;
+            drives.push_back(d);
+          }
+      }
+    return drives;
+  }
+
   Eigen::VectorXd HarmonicBalance::static_coefficients(const Eigen::VectorXd &x) const
   {
     Eigen::VectorXd z = Eigen::VectorXd::Zero(n_unknowns());
@@ -238,7 +304,7 @@ namespace nlmech
     for (std::size_t i = 0; i < free_dofs.size(); ++i)
       x[free_dofs[i]] = free_values[i];
     for (const auto &d : prescribed)
-      x[d.dof] = d.center + excitation * d.amplitude * std::cos(theta + d.phase);
+      x[d.dof] = d.center + excitation * d.motion(theta);
     return x;
   }
 
@@ -249,7 +315,7 @@ namespace nlmech
     for (std::size_t i = 0; i < free_dofs.size(); ++i)
       v[free_dofs[i]] = free_velocities[i];
     for (const auto &d : prescribed)
-      v[d.dof] = -omega * excitation * d.amplitude * std::sin(theta + d.phase);
+      v[d.dof] = excitation * d.velocity(theta, omega);
     return v;
   }
 
@@ -283,8 +349,7 @@ namespace nlmech
     for (const auto &a : forces)
       f[free_index[a.dof]] += excitation * a.amplitude * std::cos(theta + a.phase);
     for (const auto &d : drives)
-      f[free_index[d.dof]] -=
-          d.stiffness * (x[d.dof] - d.center - excitation * d.amplitude * std::cos(theta + d.phase));
+      f[free_index[d.dof]] -= d.stiffness * (x[d.dof] - d.center - excitation * d.motion(theta));
     if (df_dx)
       {
         const std::size_t                   n = free_dofs.size();

@@ -76,12 +76,19 @@ namespace nlmech
         }
     for (const auto &f : hb.harmonic_forces())
       scale = std::max(scale, hb.excitation_scale() * std::abs(f.amplitude));
+    // Inertial force of a driven unknown: w^2 m times its acceleration-weighted motion.
+    auto drive_scale = [&](const HarmonicDrive &d) {
+      double size = std::abs(d.amplitude);
+      for (std::size_t k = 1; k <= d.sine.size(); ++k)
+        size += double(k * k) * std::abs(d.sine[k - 1]);
+      for (std::size_t k = 1; k <= d.cosine.size(); ++k)
+        size += double(k * k) * std::abs(d.cosine[k - 1]);
+      return std::pow(omega, 2) * hb.model().lumped_mass()[d.dof] * hb.excitation_scale() * size;
+    };
     for (const auto &d : hb.prescribed_drives())
-      scale = std::max(scale, std::pow(omega, 2) * hb.model().lumped_mass()[d.dof] * hb.excitation_scale() *
-                                  std::abs(d.amplitude));
+      scale = std::max(scale, drive_scale(d));
     for (const auto &d : hb.harmonic_drives())
-      scale = std::max(scale, std::pow(omega, 2) * hb.model().lumped_mass()[d.dof] * hb.excitation_scale() *
-                                  std::abs(d.amplitude));
+      scale = std::max(scale, drive_scale(d));
     return std::max(scale, 1e-300);
   }
 

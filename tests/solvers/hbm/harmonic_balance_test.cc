@@ -57,7 +57,7 @@ TEST(HarmonicBalance, JacobianAndFrequencyDerivativeMatchFiniteDifferences)
   settings.n_harmonics        = 3;
   settings.rayleigh_mass      = 0.2;
   settings.rayleigh_stiffness = 0.01;
-  const HarmonicBalance hb(model, settings, {{3, 0.4, 0.3}}, {{2, 0.05, 0.1, 50.0, 0.0}});
+  const HarmonicBalance hb(model, settings, {{3, 0.4, 0.3}}, {{2, 0.05, 0.1, 50.0, 0.0, {}, {}}});
   Eigen::VectorXd       z     = random_coefficients(hb, 0.1, 1);
   const double          omega = 1.7;
   EXPECT_LT(jacobian_difference(hb, z, omega, 1e-6), 1e-6);
@@ -230,7 +230,7 @@ TEST(HarmonicBalance, ShellJacobianWithPrescribedDriveMatchesFiniteDifferences)
   std::vector<HarmonicDrive> drives;
   for (unsigned int v = 0; v < 3; ++v)
     for (unsigned int i = 0; i < 3; ++i)
-      drives.push_back({3 * v + i, i == 2 ? 0.01 : 0.0, 0.2, 0.0, shell.rest_positions[3 * v + i]});
+      drives.push_back({3 * v + i, i == 2 ? 0.01 : 0.0, 0.2, 0.0, shell.rest_positions[3 * v + i], {}, {}});
   const HarmonicBalance hb(shell.model, settings, {}, drives);
   std::srand(7);
   Eigen::VectorXd z = hb.static_coefficients(shell.rest_positions);

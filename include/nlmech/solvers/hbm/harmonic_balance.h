@@ -14,6 +14,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -39,7 +40,25 @@ namespace nlmech
     double      phase     = 0;
     double      stiffness = 0; // [N/m]; 0: exact prescribed motion
     double      center    = 0; // x_0
+    /// Higher harmonics of a motion that is not a pure cosine (a rotation, a measured signal):
+    /// x += sum_k sine[k-1] sin(k w t) + cosine[k-1] cos(k w t), k = 1, 2, ...
+    std::vector<double> sine, cosine;
+
+    /// x(theta) - x_0 at phase theta = w t, and its time derivative.
+    double motion(double theta) const;
+    double velocity(double theta, double omega) const;
   };
+
+  /// Exact drives of points turning rigidly about the axis through `center` along `axis` by the
+  /// angle phi(t) = angle_amplitude cos(w t) (a servo horn, a rotating clamp): x(t) = c + R(phi(t))
+  /// (X - c), expanded in Fourier series to `n_harmonics` (harmonic k is of the size of the Bessel
+  /// function J_k(phi_0), so a few harmonics are exact to round-off for moderate angles).
+  /// `dofs[p]` are the unknowns of point p's coordinates. With `stiffness` > 0 as penalty drives.
+  std::vector<HarmonicDrive> rotation_drives(const std::vector<std::array<double, 3>>      &points,
+                                             const std::vector<std::array<std::size_t, 3>> &dofs,
+                                             const std::array<double, 3>                   &axis,
+                                             const std::array<double, 3> &center, double angle_amplitude,
+                                             unsigned int n_harmonics, double stiffness = 0);
 
   struct HarmonicBalanceSettings
   {
