@@ -292,8 +292,10 @@ namespace nlmech
     // Weighted norm: z in units of its harmonic size at the start, w in units of the range.
     double z_ref       = z.tail(z.size() - Eigen::Index(hb.n_free())).norm();
     z_ref              = std::max(z_ref, 1e-9 * std::max(1.0, z.head(hb.n_free()).lpNorm<Eigen::Infinity>()));
-    const double w_ref = std::abs(settings.omega_end - settings.omega_start);
-    const double wz = 1 / (z_ref * z_ref), ww = 1 / (w_ref * w_ref);
+        const double w_ref = std::abs(settings.omega_end - settings.omega_start);
+    const double z_ref_start = z_ref;
+    double       wz = 1 / (z_ref * z_ref);
+    const double ww = 1 / (w_ref * w_ref);
     const double floor = residual_floor(hb, z); // round-off level of the residual (positions ~ |x|)
     auto         norm  = [&](const Eigen::VectorXd &dz, double dw) {
       return std::sqrt(wz * dz.squaredNorm() + ww * dw * dw);
@@ -467,9 +469,20 @@ namespace nlmech
           }
         if (next.iterations <= 3)
           ds = std::min(settings.max_step, 1.5 * ds);
-        else if (next.iterations >= 6)
+                else if (next.iterations >= 6)
           ds *= 0.7;
         current = next;
+        // The weight of z follows the size of the motion (never below its size at the start): a
+        // resonance many times larger than the start's motion would otherwise be crossed in tiny
+        // steps. A new weight needs the tangent in the new norm (one more factorisation).
+        const double harmonics = current.z.tail(current.z.size() - Eigen::Index(hb.n_free())).norm();
+        if (harmonics > 2 * z_ref || (harmonics < 0.5 * z_ref && z_ref > z_ref_start))
+          {
+            const Eigen::VectorXd previous_tz = current.tz;
+            z_ref                             = std::max(harmonics, z_ref_start);
+            wz                                = 1 / (z_ref * z_ref);
+            tangent(current, wz * previous_tz, ww * current.tomega);
+          }
       }
     // Resonance peaks: dA/ds from + to -; refined on the curve by the secant method on arclength.
     for (std::size_t i = 0; i + 1 < path.size(); ++i)
