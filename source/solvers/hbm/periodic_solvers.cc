@@ -58,6 +58,7 @@ namespace nlmech
     {
       Eigen::VectorXd z, tz, row_z;
       double          omega = 0, tomega = 0, amplitude = 0, dA_ds = 0, row_omega = 0, scale = 1;
+      double          step       = 0; // the predictor step along tz that led to the next point on the path
       unsigned int    iterations = 0;
     };
   } // namespace
@@ -210,10 +211,10 @@ namespace nlmech
   }
 
   FloquetResult floquet_stability(const HarmonicBalance &hb, const Eigen::VectorXd &z, const double omega,
-                                  const unsigned int steps, const double tolerance)
+                                  const unsigned int min_steps, const double tolerance)
   {
-    const std::size_t      n = hb.n_free();
-    const double           T = 2 * pi / omega, dt = T / steps;
+    const std::size_t      n     = hb.n_free();
+    const double           T     = 2 * pi / omega;
     const Eigen::VectorXd &m     = hb.free_mass();
     const double           alpha = hb.parameters().rayleigh_mass;
     // A(t) = [[0, I], [M^-1 df/dx, M^-1 (df/dv - alpha M)]], sparse.
@@ -237,6 +238,14 @@ namespace nlmech
     };
     Eigen::MatrixXd             Phi = Eigen::MatrixXd::Identity(2 * n, 2 * n);
     Eigen::SparseMatrix<double> A0  = system_matrix(0);
+    // Explicit RK4 is stable for |lambda dt| below about 2.8 on the imaginary axis: stiff parts
+    // (penalty links, membranes) with eigenvalues far above w would blow up and fake an
+    // instability. Steps so that |lambda|_max dt <= 1, from the spectrum at t = 0.
+    const double fastest =
+        Eigen::EigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(A0), false).eigenvalues().cwiseAbs().maxCoeff();
+    AssertThrow(std::isfinite(fastest), dealii::ExcMessage("Floquet: the linearised system is not finite."));
+    const unsigned int steps = std::max(min_steps, unsigned(std::min(2e6, std::ceil(T * fastest))));
+    const double       dt    = T / steps;
     for (unsigned int s = 0; s < steps; ++s)
       {
         const double                      t  = s * dt;
@@ -292,12 +301,12 @@ namespace nlmech
     // Weighted norm: z in units of its harmonic size at the start, w in units of the range.
     double z_ref       = z.tail(z.size() - Eigen::Index(hb.n_free())).norm();
     z_ref              = std::max(z_ref, 1e-9 * std::max(1.0, z.head(hb.n_free()).lpNorm<Eigen::Infinity>()));
-        const double w_ref = std::abs(settings.omega_end - settings.omega_start);
+    const double w_ref = std::abs(settings.omega_end - settings.omega_start);
     const double z_ref_start = z_ref;
-    double       wz = 1 / (z_ref * z_ref);
-    const double ww = 1 / (w_ref * w_ref);
-    const double floor = residual_floor(hb, z); // round-off level of the residual (positions ~ |x|)
-    auto         norm  = [&](const Eigen::VectorXd &dz, double dw) {
+    double       wz          = 1 / (z_ref * z_ref);
+    const double ww          = 1 / (w_ref * w_ref);
+    const double floor       = residual_floor(hb, z); // round-off level of the residual (positions ~ |x|)
+    auto         norm        = [&](const Eigen::VectorXd &dz, double dw) {
       return std::sqrt(wz * dz.squaredNorm() + ww * dw * dw);
     };
 
@@ -450,6 +459,7 @@ namespace nlmech
               response.stop_reason = "no periodic state at the end frequency";
             break;
           }
+        path.back().step = ds;
         record(next);
         path.push_back(next);
         if (settings.progress)
@@ -467,9 +477,9 @@ namespace nlmech
             response.stop_reason = "the curve turned back far below the start frequency";
             break;
           }
-        if (next.iterations <= 3)
+        if (next.iterations <= 4)
           ds = std::min(settings.max_step, 1.5 * ds);
-                else if (next.iterations >= 6)
+        else if (next.iterations >= 8)
           ds *= 0.7;
         current = next;
         // The weight of z follows the size of the motion (never below its size at the start): a
@@ -482,6 +492,7 @@ namespace nlmech
             z_ref                             = std::max(harmonics, z_ref_start);
             wz                                = 1 / (z_ref * z_ref);
             tangent(current, wz * previous_tz, ww * current.tomega);
+            path.back() = current;
           }
       }
     // Resonance peaks: dA/ds from + to -; refined on the curve by the secant method on arclength.
@@ -490,7 +501,9 @@ namespace nlmech
         {
           double a = 0, b = 0;
           // arclength between the points in the weighted norm, along the chord
-          b            = norm(path[i + 1].z - path[i].z, path[i + 1].omega - path[i].omega);
+          // (the step that produced path[i + 1], so that both ends are the same function of s)
+          b            = path[i].step > 0 ? path[i].step
+                                          : norm(path[i + 1].z - path[i].z, path[i + 1].omega - path[i].omega);
           double    ga = path[i].dA_ds, gb = path[i + 1].dA_ds;
           PathPoint best = std::abs(ga) < std::abs(gb) ? path[i] : path[i + 1];
           for (int it = 0; it < 12 && std::abs(b - a) > 1e-10 * (1 + b); ++it)

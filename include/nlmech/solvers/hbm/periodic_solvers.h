@@ -54,7 +54,8 @@ namespace nlmech
     bool   stable         = false;
   };
   /// Floquet multipliers of the periodic solution: the monodromy matrix of the linearised
-  /// equations over one period (classical RK4, `steps` steps), dense; for up to a few hundred
+  /// equations over one period (classical RK4, at least `steps` steps and enough for the fastest
+  /// eigenvalue of the linearised system, |lambda| dt <= 1), dense; for up to a few hundred
   /// free unknowns. Stable when every |mu| <= 1 + tolerance.
   FloquetResult floquet_stability(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega,
                                   unsigned int steps = 400, double tolerance = 1e-6);
