@@ -17,6 +17,7 @@
 #include <nlmech/mesh/vertex_field_output.h>
 #include <nlmech/models/dynamics/elastic_solids.h>
 #include <nlmech/models/dynamics/mechanism.h>
+#include <nlmech/models/dynamics/rod_network.h>
 #include <nlmech/models/dynamics/spring_network.h>
 #include <nlmech/models/dynamics/thin_shell.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
@@ -27,6 +28,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -65,17 +67,20 @@ namespace nlmech
     /// unknowns, and what is needed to write its motion.
     struct Structure
     {
-      Model                      model{0};
-      Eigen::VectorXd            rest; // static state (full length)
-      std::vector<HarmonicForce> forces;
-      std::vector<HarmonicDrive> drives;
-      std::vector<std::size_t>   tracked_dofs;        // one point's coordinates
-      std::size_t                tracked         = 0; // the coordinate whose half range is reported
-      unsigned int               dofs_per_vertex = 1;
-      bool                       has_mesh        = false;
-      RawSimplexMesh<3>          mesh;
-      bool                       is_mechanism = false;
-      MechanismDescription       mechanism;
+      Model                                    model{0};
+      Eigen::VectorXd                          rest; // static state (full length)
+      std::vector<HarmonicForce>               forces;
+      std::vector<HarmonicDrive>               drives;
+      std::vector<std::size_t>                 tracked_dofs; // one point's coordinates
+      std::size_t                              tracked = 0;  // the coordinate whose half range is reported
+      unsigned int                             dofs_per_vertex = 1;
+      bool                                     has_mesh        = false;
+      RawSimplexMesh<3>                        mesh;
+      bool                                     is_mechanism = false;
+      MechanismDescription                     mechanism;
+      bool                                     is_rods      = false;
+      std::size_t                              rod_vertices = 0;
+      std::vector<std::array<unsigned int, 2>> rod_edges;
     };
 
     class HarmonicBalanceScene : public Scene
@@ -85,7 +90,8 @@ namespace nlmech
       {
         prm.enter_subsection("Oscillator");
         prm.declare_entry(
-            "Model", "duffing", Patterns::Selection("duffing|two-spring-mass|shell|solid|plane|mechanism"),
+            "Model", "duffing",
+            Patterns::Selection("duffing|two-spring-mass|shell|solid|plane|mechanism|rods"),
             "duffing: m x'' + c x' + k x + k3 x^3 = F cos(w t); two-spring-mass: a mass at the middle "
             "between "
             "two anchors at distance 2 Span, joined by geometric springs of rest length L0, forced across "
@@ -97,7 +103,9 @@ namespace nlmech
             "St.Venant-Kirchhoff "
             "triangles on a gmsh mesh in z = 0 (subsection Solid); mesh models are clamped, driven and "
             "tracked "
-            "as subsection Structure says. mechanism: a planar compliant mechanism (subsection Mechanism).");
+            "as subsection Structure says. mechanism: a planar compliant mechanism (subsection Mechanism); "
+            "rods: "
+            "a network of discrete elastic rods with rigid junctions (subsection Rods).");
         prm.declare_entry("Mass", "1", Patterns::Double(0), "m [kg].");
         prm.declare_entry("Stiffness", "1", Patterns::Double(0), "k, per spring [N/m].");
         prm.declare_entry("Cubic stiffness", "1", Patterns::Double(), "k3, per spring [N/m^3].");
@@ -181,6 +189,25 @@ namespace nlmech
         prm.declare_entry("Angle stiffness", "100", Patterns::Double(0),
                           "Rigid-joint penalty k_t [N m/rad^2].");
         prm.declare_entry("Gravity", "9.81", Patterns::Double(), "Along -y [m/s^2].");
+        prm.leave_subsection();
+        prm.enter_subsection("Rods");
+        prm.declare_entry(
+            "Polylines", "", Patterns::Anything(),
+            "`x, y, z, x, y, z, ...; ...`: one rod per polyline [m], resampled to equal edges; a "
+            "polyline whose ends coincide is a closed loop; rod ends that meet form a rigid "
+            "junction.");
+        prm.declare_entry("Segments per rod", "8", Patterns::Integer(1), "[-].");
+        prm.declare_entry("Radius", "0.00055", Patterns::Double(0), "Wire radius [m].");
+        prm.declare_entry("Young's modulus", "69e9", Patterns::Double(0), "[Pa].");
+        prm.declare_entry("Poisson's ratio", "0.33", Patterns::Double(-1, 0.5), "[-].");
+        prm.declare_entry("Density", "2700", Patterns::Double(0), "[kg/m^3].");
+        prm.declare_entry("Added masses", "", Patterns::Anything(),
+                          "`x, y, z, m; ...`: point masses [kg] at the vertices nearest to the points [m].");
+        prm.declare_entry(
+            "Driven points", "", Patterns::Anything(),
+            "`x, y, z; ...`: the nearest vertices move by x = X + a d cos(w t) (Structure: Drive "
+            "direction and amplitude); a driven junction is also held from turning (a clamp).");
+        prm.declare_entry("Tracked point", "0, 0, 0", Patterns::Anything(), "[m].");
         prm.leave_subsection();
         prm.enter_subsection("Harmonic balance");
         prm.declare_entry("Harmonics", "7", Patterns::Integer(), "N_H [-].");
@@ -266,6 +293,32 @@ namespace nlmech
         prm.enter_subsection("Mechanism");
         if (model_kind == "mechanism")
           parse_mechanism(prm);
+        prm.leave_subsection();
+        prm.enter_subsection("Rods");
+        if (model_kind == "rods")
+          {
+            for (const auto &row : parse_rows(prm.get("Polylines"), "Polylines", 0))
+              {
+                AssertThrow(
+                    row.size() >= 6 && row.size() % 3 == 0,
+                    ExcMessage("Polylines: each polyline needs at least two points of three coordinates."));
+                std::vector<std::array<double, 3>> line;
+                for (std::size_t i = 0; i < row.size(); i += 3)
+                  line.push_back({{row[i], row[i + 1], row[i + 2]}});
+                rod_polylines.push_back(line);
+              }
+            AssertThrow(!rod_polylines.empty(), ExcMessage("Rods: Polylines are needed."));
+            rod_segments                = prm.get_integer("Segments per rod");
+            rod_material.radius         = prm.get_double("Radius");
+            rod_material.youngs_modulus = prm.get_double("Young's modulus");
+            rod_material.poissons_ratio = prm.get_double("Poisson's ratio");
+            rod_material.density        = prm.get_double("Density");
+            rod_masses                  = parse_rows(prm.get("Added masses"), "Added masses", 4);
+            rod_driven                  = parse_rows(prm.get("Driven points"), "Driven points", 3);
+            rod_tracked = Point<3>(parse_vector<3>(prm.get("Tracked point"), "Tracked point"));
+            for (const auto &m : rod_masses)
+              AssertThrow(m[3] >= 0, ExcMessage("Added masses must not be negative."));
+          }
         prm.leave_subsection();
         prm.enter_subsection("Harmonic balance");
         const long harmonics = prm.get_integer("Harmonics"), samples = prm.get_integer("Time samples");
@@ -484,6 +537,27 @@ namespace nlmech
                                     std::filesystem::path(context.output.file("period.pvd")).parent_path(),
                                     "period", times, frames);
           }
+        if (s.is_rods)
+          {
+            std::ostringstream csv;
+            csv << "t";
+            for (std::size_t v = 0; v < s.rod_vertices; ++v)
+              csv << ",x" << v << ",y" << v << ",z" << v;
+            csv << "\n";
+            for (unsigned int f = 0; f < period_frames; ++f)
+              {
+                csv << json_number(times[f]);
+                for (std::size_t i = 0; i < 3 * s.rod_vertices; ++i)
+                  csv << "," << json_number(x(i, f));
+                csv << "\n";
+              }
+            std::ostringstream edges;
+            for (const auto &e : s.rod_edges)
+              edges << e[0] << "-" << e[1] << " ";
+            write_file_atomically(context.output.file("rod_period.csv"), csv.str());
+            run_plot("rods.py", {context.output.file("rod_period.csv"), context.output.file("rod_period.png"),
+                                 edges.str()});
+          }
         if (s.is_mechanism)
           {
             std::ostringstream    csv;
@@ -539,6 +613,8 @@ namespace nlmech
           }
         if (model_kind == "mechanism")
           build_mechanism(context, s);
+        else if (model_kind == "rods")
+          build_rods(context, s);
         else
           build_mesh_structure(context, s);
         // A static state under constant loads (gravity) with the drives at their centres: the
@@ -708,6 +784,59 @@ namespace nlmech
         AssertThrow(tracked_joint < m.joints.size(), ExcMessage("Mechanism: the tracked joint is missing."));
       }
 
+      void build_rods(RunContext &context, Structure &s)
+      {
+        RodNetworkDescription d = rods_from_polylines(rod_polylines, rod_segments, 1e-9);
+        d.material              = rod_material;
+        RodNetwork net          = make_rod_network(d);
+        s.model = std::move(net.model), s.rest = net.rest_positions, s.dofs_per_vertex = 3;
+        s.is_rods = true, s.rod_vertices = d.vertices.size(), s.rod_edges = net.edges;
+        auto nearest = [&](const std::vector<double> &p) {
+          std::size_t best = 0;
+          double      gap  = std::numeric_limits<double>::max();
+          for (std::size_t v = 0; v < d.vertices.size(); ++v)
+            {
+              const double g =
+                  std::hypot(d.vertices[v][0] - p[0], d.vertices[v][1] - p[1], d.vertices[v][2] - p[2]);
+              if (g < gap)
+                gap = g, best = v;
+            }
+          return best;
+        };
+        for (const auto &m : rod_masses)
+          for (int i = 0; i < 3; ++i)
+            s.model.lumped_mass()[3 * nearest(m) + i] += m[3];
+        AssertThrow(!rod_driven.empty() || !point_forces.empty(),
+                    ExcMessage("The rods need driven points or point forces: nothing excites them."));
+        for (const auto &p : rod_driven)
+          {
+            const std::size_t v = nearest(p);
+            for (unsigned int i = 0; i < 3; ++i)
+              s.drives.push_back(
+                  {3 * v + i, drive_amplitude * drive_direction[i], 0.0, 0.0, s.rest[3 * v + i], {}, {}});
+            for (std::size_t j = 0; j < net.junction_vertices.size(); ++j)
+              if (net.junction_vertices[j] == v)
+                for (unsigned int i = 0; i < 3; ++i)
+                  s.model.fix(net.rotation_offset + 3 * j + i, 0.0);
+          }
+        for (const auto &pf : point_forces)
+          {
+            const std::size_t v = nearest({pf.first[0], pf.first[1], pf.first[2]});
+            for (unsigned int i = 0; i < 3; ++i)
+              if (pf.second[i] != 0)
+                s.forces.push_back({3 * v + i, pf.second[i], 0.0});
+          }
+        const std::size_t t = nearest({rod_tracked[0], rod_tracked[1], rod_tracked[2]});
+        s.tracked_dofs      = {3 * t, 3 * t + 1, 3 * t + 2};
+        s.tracked           = 3 * t + tracked_direction;
+        AssertThrow(!s.model.is_fixed(s.tracked), ExcMessage("The tracked vertex is held."));
+        context.pcout << "rods: " << d.rods.size() << " rods, " << d.vertices.size() << " vertices, "
+                      << net.edges.size() << " edges, " << net.junction_vertices.size() << " junctions, "
+                      << rod_masses.size() << " added masses, tracked vertex " << t << std::endl;
+        context.summary.add_number("n_vertices", d.vertices.size());
+        context.summary.add_number("n_junctions", net.junction_vertices.size());
+      }
+
       void build_mechanism(RunContext &context, Structure &s) const
       {
         MechanismModel mech = make_mechanism_model(mechanism);
@@ -835,13 +964,18 @@ namespace nlmech
       bool                       rotation_drive = false;
       Tensor<1, 3>               drive_direction, rotation_axis, rotation_center;
       double                     drive_amplitude = 0, drive_stiffness_factor = 0, rotation_amplitude = 0;
-      std::vector<std::pair<Point<3>, Tensor<1, 3>>> point_forces;
-      Point<3>                                       tracked_point;
-      unsigned int                                   tracked_direction = 2, period_frames = 0;
-      MechanismDescription                           mechanism;
-      std::vector<unsigned int>                      fixed_joints, driven_joints;
-      unsigned int                                   tracked_joint = 0;
-      std::string                                    model_kind;
+      std::vector<std::pair<Point<3>, Tensor<1, 3>>>  point_forces;
+      Point<3>                                        tracked_point;
+      unsigned int                                    tracked_direction = 2, period_frames = 0;
+      MechanismDescription                            mechanism;
+      std::vector<unsigned int>                       fixed_joints, driven_joints;
+      unsigned int                                    tracked_joint = 0;
+      std::vector<std::vector<std::array<double, 3>>> rod_polylines;
+      unsigned int                                    rod_segments = 8;
+      RodMaterial                                     rod_material;
+      std::vector<std::vector<double>>                rod_masses, rod_driven;
+      Point<3>                                        rod_tracked;
+      std::string                                     model_kind;
       double                  mass = 1, k = 1, k3 = 1, span = 1, rest_length = 0.8, force = 0.5;
       HarmonicBalanceSettings settings;
       ContinuationSettings    continuation;

@@ -412,12 +412,13 @@ namespace nlmech
             break;
           }
         PathPoint next;
+        double    distance = 0; // of the corrected point from the prediction, weighted norm
         bool      accepted = correct(current, ds, next, true);
         if (accepted)
           {
             // Step control: the corrected point near the prediction, the curve turning by less than
             // about 30 degrees; otherwise the corrector may have jumped to another part of the curve.
-            const double distance =
+            distance =
                 norm(next.z - current.z - ds * current.tz, next.omega - current.omega - ds * current.tomega);
             accepted = distance <= 0.5 * ds;
             if (accepted)
@@ -430,6 +431,9 @@ namespace nlmech
           }
         if (!accepted)
           {
+            if (std::getenv("NLMECH_HBM_DEBUG"))
+              std::cerr << "step rejected at w " << current.omega << " ds " << ds << " distance/ds "
+                        << distance / ds << std::endl;
             ++response.rejected_steps;
             ds *= 0.5;
             if (ds < settings.min_step)
@@ -477,9 +481,12 @@ namespace nlmech
             response.stop_reason = "the curve turned back far below the start frequency";
             break;
           }
-        if (next.iterations <= 4)
+        // Step size: grow where the corrector was quick or the prediction close (stiff structures,
+        // rods, need several corrector iterations for their stretching forces however small the
+        // step: the distance in the weighted norm tells the curve's own curvature).
+        if (next.iterations <= 4 || distance <= 0.1 * ds)
           ds = std::min(settings.max_step, 1.5 * ds);
-        else if (next.iterations >= 8)
+        else if (next.iterations >= 8 || distance > 0.3 * ds)
           ds *= 0.7;
         current = next;
         // The weight of z follows the size of the motion (never below its size at the start): a
