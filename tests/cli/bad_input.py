@@ -48,6 +48,15 @@ def cases(source):
         "hbm-no-harmonics": (hbm("  set Harmonics = 0\n"), "Harmonics must be at least 1"),
         "hbm-too-few-samples": (hbm("  set Harmonics = 5\n  set Time samples = 8\n"), "at least 2 N_H + 1"),
         "hbm-negative-frequency": (hbm("  set Frequency range = -1, 2\n"), "two different positive frequencies"),
+        "hbm-missing-driven-group": (hbm("") + "subsection Oscillator\n  set Model = shell\nend\n"
+                                     "subsection Mesh\n  set Mesh file = " + os.path.join(source, "meshes", "fork.geo") +
+                                     "\nend\nsubsection Structure\n  set Driven groups = clamp\nend\n",
+                                     "physical group <clamp> does not exist"),
+        "hbm-mechanism-missing-joint": (hbm("") + "subsection Oscillator\n  set Model = mechanism\nend\n"
+                                        "subsection Mechanism\n  set Joints = 0, 0, 1; 1, 0, 1\n  set Links = 0, 5\n"
+                                        "  set Driven joints = 0\nend\n", "A link joins a missing joint"),
+        "hbm-rods-without-polylines": (hbm("") + "subsection Oscillator\n  set Model = rods\nend\n",
+                                       "Rods: Polylines are needed"),
         "multi-target-topology": (multi_target(f"  set Target mesh = {os.path.join(data, 'inverted_tet.msh')}\n"),
                                   "not the main target's"),
         "multi-target-moved-support": (multi_target("  set Target displacement = 0.001; 0; 0\n"),
