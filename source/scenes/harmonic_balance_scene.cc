@@ -220,6 +220,13 @@ namespace nlmech
                           "Stop the curve (partial result) beyond this half range [m].");
         prm.declare_entry("Tolerance", "1e-9", Patterns::Double(0), "|h| relative to the force scale [-].");
         prm.declare_entry(
+            "Adaptive harmonics", "0", Patterns::Double(0),
+            "0: use Harmonics as given; > 0: raise N_H from Harmonics in steps of 2 (up to 25) until "
+            "the trajectory at the adaptive frequency changes by less than this fraction of its "
+            "size (thesis 2.5.1; e.g. 1e-3) [-].");
+        prm.declare_entry("Adaptive frequency", "0", Patterns::Double(0),
+                          "Where the number of harmonics is chosen; 0: the start frequency [rad/s].");
+        prm.declare_entry(
             "Linear modal reference", "true", Patterns::Bool(),
             "Add the linear modal analysis response at the static state (dense eigenproblem, up "
             "to 3000 free unknowns) to the curve's CSV and plot.");
@@ -337,6 +344,8 @@ namespace nlmech
         continuation.max_amplitude      = prm.get_double("Maximum amplitude");
         continuation.relative_tolerance = prm.get_double("Tolerance");
         linear_reference                = prm.get_bool("Linear modal reference");
+        adaptive_threshold              = prm.get_double("Adaptive harmonics");
+        adaptive_frequency              = prm.get_double("Adaptive frequency");
         prm.leave_subsection();
         prm.enter_subsection("Newmark check");
         check_frequencies = parse_number_list(prm.get("Frequencies"), "Frequencies");
@@ -355,6 +364,26 @@ namespace nlmech
           TimerOutput::Scope t(context.timer, "model");
           build_structure(context, s);
         }
+        if (adaptive_threshold > 0)
+          {
+            TimerOutput::Scope    t(context.timer, "adaptive number of harmonics");
+            const double          w = adaptive_frequency > 0 ? adaptive_frequency : continuation.omega_start;
+            const HarmonicsChoice choice = choose_harmonics(s.model, settings, s.forces, s.drives, s.rest, w,
+                                                            adaptive_threshold, settings.n_harmonics, 25, 2);
+            std::ostringstream    changes;
+            for (const auto &c : choice.changes)
+              changes << " N_H " << c.first << ": " << c.second << ";";
+            context.pcout << "adaptive harmonics at w = " << w << " rad/s:" << changes.str()
+                          << " -> N_H = " << choice.n_harmonics
+                          << (choice.converged ? "" : " (threshold not met at N_H = 25)") << std::endl;
+            context.summary.add_number("adaptive_harmonics_converged", choice.converged);
+            if (!choice.changes.empty())
+              context.summary.add_figure("adaptive_last_trajectory_change", choice.changes.back().second,
+                                         "1");
+            settings.n_harmonics = choice.n_harmonics;
+            if (settings.n_samples != 0)
+              settings.n_samples = std::max(settings.n_samples, 2 * settings.n_harmonics + 1);
+          }
         const HarmonicBalance hb(s.model, settings, s.forces, s.drives);
         context.summary.add_string("model", model_kind);
         context.summary.add_number("harmonics", settings.n_harmonics);
@@ -979,7 +1008,8 @@ namespace nlmech
       double                  mass = 1, k = 1, k3 = 1, span = 1, rest_length = 0.8, force = 0.5;
       HarmonicBalanceSettings settings;
       ContinuationSettings    continuation;
-      bool                    linear_reference = true;
+      bool                    linear_reference   = true;
+      double                  adaptive_threshold = 0, adaptive_frequency = 0;
       std::vector<double>     check_frequencies;
       NewmarkSettings         newmark;
     };

@@ -543,6 +543,57 @@ namespace nlmech
     return response;
   }
 
+  HarmonicsChoice choose_harmonics(const Model &model, const HarmonicBalanceSettings &settings_in,
+                                   const std::vector<HarmonicForce> &forces,
+                                   const std::vector<HarmonicDrive> &drives,
+                                   const Eigen::VectorXd &static_state, const double omega,
+                                   const double threshold, const unsigned int first, const unsigned int last,
+                                   const unsigned int step)
+  {
+    AssertThrow(
+        first >= 1 && step >= 1 && last >= first && threshold > 0 && omega > 0,
+        dealii::ExcMessage("choose_harmonics: needs 1 <= first <= last, step >= 1, a positive threshold "
+                           "and frequency."));
+    HarmonicsChoice     choice;
+    Eigen::VectorXd     previous_z;
+    Eigen::MatrixXd     previous;
+    std::vector<double> t(256);
+    for (std::size_t j = 0; j < t.size(); ++j)
+      t[j] = 2 * pi / omega * double(j) / double(t.size());
+    for (unsigned int H = first; H <= last; H += step)
+      {
+        HarmonicBalanceSettings settings = settings_in;
+        settings.n_harmonics             = H;
+        if (settings_in.n_samples != 0)
+          settings.n_samples = std::max(settings_in.n_samples, 2 * H + 1);
+        const HarmonicBalance hb(model, settings, forces, drives);
+        Eigen::VectorXd       z = hb.static_coefficients(static_state);
+        if (previous_z.size() > 0) // the lower harmonics from the previous solution
+          z.head(std::min(z.size(), previous_z.size())) =
+              previous_z.head(std::min(z.size(), previous_z.size()));
+        const PeriodicSolveResult r = solve_with_excitation_ramp(hb, z, omega);
+        AssertThrow(r.converged, dealii::ExcMessage("choose_harmonics: no periodic state at N_H = " +
+                                                    std::to_string(H) + " (" + r.message + ")."));
+        Eigen::MatrixXd x  = hb.positions_at(z, omega, t);
+        choice.n_harmonics = H, choice.z = z;
+        if (previous.size() > 0)
+          {
+            double size = 0;
+            for (Eigen::Index i = 0; i < x.rows(); ++i)
+              size = std::max(size, x.row(i).maxCoeff() - x.row(i).minCoeff());
+            const double change = (x - previous).lpNorm<Eigen::Infinity>() / std::max(size, 1e-300);
+            choice.changes.emplace_back(H, change);
+            if (change < threshold)
+              {
+                choice.converged = true;
+                break;
+              }
+          }
+        previous = std::move(x), previous_z = z;
+      }
+    return choice;
+  }
+
   NewmarkResult newmark_steady_state(const HarmonicBalance &hb, const double omega, const Eigen::VectorXd &x0,
                                      const Eigen::VectorXd &v0, const NewmarkSettings &settings)
   {

@@ -110,6 +110,25 @@ namespace nlmech
   FrequencyResponse trace_frequency_response(const HarmonicBalance &hb, Eigen::VectorXd z,
                                              const ContinuationSettings &settings);
 
+  struct HarmonicsChoice
+  {
+    unsigned int                                 n_harmonics = 0; // the first N_H that met the threshold
+    bool                                         converged   = false;
+    std::vector<std::pair<unsigned int, double>> changes; // (N_H, trajectory change from the previous N_H)
+    Eigen::VectorXd                              z;       // the solution at the chosen N_H
+  };
+
+  /// The thesis's strategy for the number of harmonics (section 2.5.1): solve at frequency w with
+  /// N_H = first, first + step, ... (each started from the previous solution) until the trajectory of
+  /// the free unknowns over a period changes by less than `threshold` times its size (the largest
+  /// peak-to-peak range), or N_H exceeds `last`. `settings.n_harmonics` is ignored; N_AFT follows
+  /// N_H (4 N_H + 2) unless set.
+  HarmonicsChoice choose_harmonics(const Model &model, const HarmonicBalanceSettings &settings,
+                                   const std::vector<HarmonicForce> &forces,
+                                   const std::vector<HarmonicDrive> &drives,
+                                   const Eigen::VectorXd &static_state, double omega, double threshold = 1e-3,
+                                   unsigned int first = 3, unsigned int last = 15, unsigned int step = 2);
+
   struct NewmarkSettings
   {
     unsigned int steps_per_period = 1024;
