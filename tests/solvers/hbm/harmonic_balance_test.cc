@@ -252,10 +252,10 @@ TEST(HarmonicBalance, AdaptiveHarmonicsMeetTheirThresholdAgainstAManyHarmonicRef
   // must stop with a trajectory that is within a few 1e-3 of an N_H = 25 solution.
   const Model             model = duffing(1, 1, 1);
   HarmonicBalanceSettings settings;
-  settings.rayleigh_mass = 0.1;
+  settings.rayleigh_mass                  = 0.1;
   const std::vector<HarmonicForce> forces = {{1, 0.5, 0.0}};
   const Eigen::VectorXd            rest   = Eigen::VectorXd::Zero(2);
-  const HarmonicsChoice            choice = choose_harmonics(model, settings, forces, {}, rest, 0.6, 1e-3, 1, 21, 2);
+  const HarmonicsChoice choice = choose_harmonics(model, settings, forces, {}, rest, 0.6, 1e-3, 1, 21, 2);
   ASSERT_TRUE(choice.converged);
   EXPECT_GE(choice.n_harmonics, 3u);
   for (const auto &c : choice.changes)
