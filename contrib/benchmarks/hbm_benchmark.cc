@@ -1,11 +1,15 @@
 // Benchmark: harmonic balance against Newmark time stepping to the periodic steady state, at equal
 // trajectory error, and the AFT by FFTW against dense DFT matrices. Prints medians of repeated
-// runs side by side.
+// runs side by side, and the cost of one Newton iteration (residual, Jacobian, sparse LU, solve)
+// against N_H and the number of unknowns on the fork shell of prm/fork-shell.prm.
 //   build/contrib/benchmarks/hbm_benchmark [repeats]
 // Model: the forced, damped, hardening Duffing oscillator of prm/duffing.prm (m = k = k3 = 1,
 // c = 0.1, F = 0.5) off resonance; reference trajectory: HBM with N_H = 25 (converged to round-off).
+#include <nlmech/mesh/gmsh_mesh.h>
 #include <nlmech/models/dynamics/spring_network.h>
+#include <nlmech/models/dynamics/thin_shell.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
+#include <nlmech/solvers/linear/sparse_factorization.h>
 
 #include <algorithm>
 #include <chrono>
@@ -139,5 +143,53 @@ int main(int argc, char **argv)
       }
   std::printf(
       "\n(residual only: the AFT is what differs; the Jacobian assembly uses the dense products in both.)\n");
+
+  std::printf("\n## Cost of one Newton iteration on the fork shell (prm/fork-shell.prm), medians\n\n");
+  std::printf(
+      "| vertices | free dofs | N_H | unknowns | residual [ms] | Jacobian [ms] | LU [ms] | solve [ms] | "
+      "iteration [ms] | Jacobian nonzeros |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const double size : {0.02, 0.012, 0.008})
+    {
+      MeshOptions options;
+      options.file                  = NLMECH_SOURCE_DIR "/meshes/fork.geo";
+      options.characteristic_length = size;
+      const RawSimplexMesh<3> mesh  = read_simplex_mesh<3>(options, 2);
+      ShellMaterial           material;
+      material.youngs_modulus = 1e7, material.poissons_ratio = 0.4, material.density = 1100;
+      const ShellModel           shell = make_shell_model(mesh, material);
+      std::vector<HarmonicDrive> drives;
+      const unsigned int         handle = mesh.groups.material_ids.at("handle");
+      std::vector<bool>          driven(mesh.vertices.size(), false);
+      for (std::size_t c = 0; c < mesh.cells.size(); ++c)
+        if (mesh.cell_material[c] == handle)
+          for (const unsigned int v : mesh.cells[c])
+            driven[v] = true;
+      for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+        if (driven[v])
+          for (unsigned int i = 0; i < 3; ++i)
+            drives.push_back(
+                {3 * v + i, i == 2 ? 5e-4 : 0.0, 0.0, 0.0, shell.rest_positions[3 * v + i], {}, {}});
+      for (const unsigned int H : {1u, 3u, 5u, 7u})
+        {
+          HarmonicBalanceSettings settings;
+          settings.n_harmonics   = H;
+          settings.rayleigh_mass = 1;
+          const HarmonicBalance hb(shell.model, settings, {}, drives);
+          Eigen::VectorXd       z = hb.static_coefficients(shell.rest_positions);
+          solve_periodic_state(hb, z, 4.0); // a genuine state (the fork's scene at 4 rad/s)
+          Eigen::SparseMatrix<double> J;
+          Eigen::VectorXd             h;
+          SparseFactorization         lu;
+          const double                tr = median_seconds(repeats, [&] { h = hb.residual(z, 4.0); });
+          const double                tj = median_seconds(repeats, [&] { J = hb.jacobian(z, 4.0); });
+          const double                tf = median_seconds(repeats, [&] { lu.factorize(J, false); });
+          Eigen::VectorXd             dz;
+          const double                ts = median_seconds(repeats, [&] { dz = lu.solve(h); });
+          std::printf("| %zu | %zu | %u | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %ld |\n",
+                      mesh.vertices.size(), hb.n_free(), H, hb.n_unknowns(), 1e3 * tr, 1e3 * tj, 1e3 * tf,
+                      1e3 * ts, 1e3 * (tr + tj + tf + ts), long(J.nonZeros()));
+          std::fflush(stdout);
+        }
+    }
   return 0;
 }

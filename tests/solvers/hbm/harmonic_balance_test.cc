@@ -274,3 +274,71 @@ TEST(HarmonicBalance, AdaptiveHarmonicsMeetTheirThresholdAgainstAManyHarmonicRef
   const double          size = b.row(1).maxCoeff() - b.row(1).minCoeff();
   EXPECT_LT((a.row(1) - b.row(1)).lpNorm<Eigen::Infinity>() / size, 3e-3);
 }
+
+TEST(HarmonicBalance, ShellErrorAgainstNewmarkFallsWithTheNumberOfHarmonics)
+{
+  // Thesis Fig. 2.3 on the fork shell of prm/fork-shell.prm (coarse mesh), driven 0.5 mm at its
+  // handle, off resonance: the HBM trajectory of a tine tip against Newmark run to the periodic
+  // steady state (1024 steps per period, started from the N_H = 7 state) for N_H = 1, 3, 5.
+  MeshOptions options;
+  options.file                  = NLMECH_SOURCE_DIR "/meshes/fork.geo";
+  options.characteristic_length = 0.025;
+  const RawSimplexMesh<3> mesh  = read_simplex_mesh<3>(options, 2);
+  ShellMaterial           material;
+  material.youngs_modulus = 1e7, material.poissons_ratio = 0.4, material.density = 1100;
+  const ShellModel   shell  = make_shell_model(mesh, material);
+  const unsigned int handle = mesh.groups.material_ids.at("handle");
+  std::vector<bool>  driven(mesh.vertices.size(), false);
+  for (std::size_t c = 0; c < mesh.cells.size(); ++c)
+    if (mesh.cell_material[c] == handle)
+      for (const unsigned int v : mesh.cells[c])
+        driven[v] = true;
+  std::vector<HarmonicDrive> drives;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    if (driven[v])
+      for (unsigned int i = 0; i < 3; ++i)
+        drives.push_back({3 * v + i, i == 2 ? 5e-4 : 0.0, 0.0, 0.0, shell.rest_positions[3 * v + i], {}, {}});
+  std::size_t            tip = 0; // the vertex nearest to the upper tine's tip
+  const dealii::Point<3> target(0.16, 0.0275, 0);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    if (mesh.vertices[v].distance(target) < mesh.vertices[tip].distance(target))
+      tip = v;
+  const double            omega = 6.0; // above the first resonance (3.7 rad/s), below the second
+  HarmonicBalanceSettings settings;
+  settings.rayleigh_mass = 1;
+  auto solve             = [&](unsigned int H) {
+    settings.n_harmonics = H;
+    auto hb = std::make_unique<HarmonicBalance>(shell.model, settings, std::vector<HarmonicForce>{}, drives);
+    Eigen::VectorXd z = hb->static_coefficients(shell.rest_positions);
+    EXPECT_TRUE(solve_with_excitation_ramp(*hb, z, omega).converged);
+    return std::make_pair(std::move(hb), z);
+  };
+  const auto [reference_hb, reference_z] = solve(7);
+  NewmarkSettings newmark;
+  newmark.steps_per_period = 1024;
+  newmark.period_tolerance = 1e-7;
+  const NewmarkResult nm =
+      newmark_steady_state(*reference_hb, omega, reference_hb->positions_at(reference_z, omega, {0.0}).col(0),
+                           reference_hb->velocities_at(reference_z, omega, {0.0}).col(0), newmark);
+  ASSERT_TRUE(nm.converged);
+  std::vector<double> t(newmark.steps_per_period);
+  for (std::size_t j = 0; j < t.size(); ++j)
+    t[j] = 2 * pi / omega * double(j) / double(t.size());
+  const double size =
+      0.5 * (nm.last_period.row(3 * tip + 2).maxCoeff() - nm.last_period.row(3 * tip + 2).minCoeff());
+  std::vector<double> errors;
+  for (const unsigned int H : {1u, 3u, 5u})
+    {
+      const auto [hb, z]      = solve(H);
+      const Eigen::MatrixXd x = hb->positions_at(z, omega, t);
+      double                e = 0;
+      for (unsigned int i = 0; i < 3; ++i)
+        e = std::max(e, (x.row(3 * tip + i) - nm.last_period.row(3 * tip + i)).lpNorm<Eigen::Infinity>());
+      errors.push_back(e / size);
+      std::cout << "fork shell at " << omega << " rad/s, N_H = " << H << ": HBM vs Newmark " << e / size
+                << " of the tip's half range" << std::endl;
+    }
+  EXPECT_LT(errors[1], errors[0]);
+  EXPECT_LE(errors[2], errors[1] * 1.01);
+  EXPECT_LT(errors[2], 1e-3);
+}
