@@ -79,11 +79,11 @@ TEST(RodNetwork, CantileverMatchesBeamAndTorsionTheory)
 {
   RodMaterial  m; // aluminium wire, d = 1.1 mm
   const double L = 0.2, r = m.radius;
-  const double A = pi * r * r, I = pi * std::pow(r, 4) / 4, J = 2 * I,
+  const double A = pi * r * r, I = pi * std::pow(r, 4) / 4,
                G = m.youngs_modulus / (2 * (1 + m.poissons_ratio));
   const double bending =
       1.875104068711961 * 1.875104068711961 * std::sqrt(m.youngs_modulus * I / (m.density * A)) / (L * L);
-  const double          torsion = pi / 2 / L * std::sqrt(G / m.density);
+  const double          torsion = pi / 2 / L * std::sqrt(G / m.density); // sqrt(G J / (rho J)) / L
   const Eigen::VectorXd w       = cantilever_frequencies(80, 1, m, L);
   // Holding the first two vertices clamps the rod half an edge in: L_eff = L - h / 2.
   const double h = L / 80, clamp = std::pow(L / (L - h / 2), 2);

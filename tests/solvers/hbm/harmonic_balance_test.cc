@@ -5,12 +5,15 @@
 #include <nlmech/models/dynamics/thin_shell.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
 
+#include "hbm_test_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <memory>
 
 using namespace nlmech;
+using nlmech::testing::jacobian_difference;
 
 namespace
 {
@@ -25,22 +28,6 @@ namespace
   Model two_spring_mass()
   {
     return make_two_spring_mass_model(0.3, 2.0, 0.5, 1.0, 0.8);
-  }
-
-  /// Largest difference between the Jacobian's columns and central differences of the residual,
-  /// relative to the largest Jacobian entry (at least 1).
-  double jacobian_difference(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega, double h)
-  {
-    const Eigen::MatrixXd J     = Eigen::MatrixXd(hb.jacobian(z, omega));
-    double                worst = 0;
-    for (Eigen::Index j = 0; j < z.size(); ++j)
-      {
-        Eigen::VectorXd zp = z, zm = z;
-        zp[j] += h, zm[j] -= h;
-        const Eigen::VectorXd column = (hb.residual(zp, omega) - hb.residual(zm, omega)) / (2 * h);
-        worst                        = std::max(worst, (column - J.col(j)).lpNorm<Eigen::Infinity>());
-      }
-    return worst / std::max(1.0, J.lpNorm<Eigen::Infinity>());
   }
 
   Eigen::VectorXd random_coefficients(const HarmonicBalance &hb, double size, unsigned int seed)

@@ -8,6 +8,8 @@
 #include <nlmech/solvers/hbm/linear_modal.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
 
+#include "hbm_test_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -15,34 +17,12 @@
 #include <cmath>
 
 using namespace nlmech;
+using nlmech::testing::jacobian_difference;
+using nlmech::testing::mesh;
 
 namespace
 {
   constexpr double pi = 3.14159265358979323846;
-
-  double jacobian_difference(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega, double h)
-  {
-    const Eigen::MatrixXd J     = Eigen::MatrixXd(hb.jacobian(z, omega));
-    double                worst = 0;
-    for (Eigen::Index j = 0; j < z.size(); ++j)
-      {
-        Eigen::VectorXd zp = z, zm = z;
-        zp[j] += h, zm[j] -= h;
-        const Eigen::VectorXd column = (hb.residual(zp, omega) - hb.residual(zm, omega)) / (2 * h);
-        worst                        = std::max(worst, (column - J.col(j)).lpNorm<Eigen::Infinity>());
-      }
-    return worst / std::max(1.0, J.lpNorm<Eigen::Infinity>());
-  }
-
-  RawSimplexMesh<3> mesh(const std::string &geo, double size, int dim)
-  {
-    MeshOptions options;
-    options.file                  = std::string(NLMECH_SOURCE_DIR "/meshes/") + geo;
-    options.characteristic_length = size;
-    RawSimplexMesh<3> m           = read_simplex_mesh<3>(options, dim);
-    check_simplex_mesh(m, dim);
-    return m;
-  }
 
   /// Three-link leg hanging from a driven hip, two springs (the scene's prm/three-link.prm).
   MechanismDescription leg()
@@ -212,16 +192,11 @@ TEST(LinearModalAnalysis, ModalSuperpositionEqualsTheDirectComplexSolve)
 {
   // A plane tower-like strip: the modal response with all modes against (K - w^2 M + i w D) U = F
   // solved directly, with a prescribed drive and a force with a phase.
-  const RawSimplexMesh<3> m = mesh("unit_square.geo", 0.3, 2);
-  SolidMaterial           material;
-  material.youngs_modulus = 1e4, material.thickness = 0.01;
-  SolidModel                 solid = make_plane_model(m, {material});
-  std::vector<HarmonicDrive> drives;
-  for (std::size_t v = 0; v < m.vertices.size(); ++v)
-    if (m.vertices[v][1] < 1e-9)
-      for (unsigned int i = 0; i < 2; ++i)
-        drives.push_back({2 * v + i, i == 0 ? 1e-3 : 0.0, 0.3, 0.0, solid.rest_positions[2 * v + i], {}, {}});
-  std::size_t top = 0;
+  const auto  strip  = nlmech::testing::shaken_strip(1e-3, 0.3);
+  const auto &m      = strip.m;
+  const auto &solid  = strip.solid;
+  const auto &drives = strip.drives;
+  std::size_t top    = 0;
   for (std::size_t v = 0; v < m.vertices.size(); ++v)
     if (m.vertices[v][1] > m.vertices[top][1] + 1e-12 ||
         (m.vertices[v][1] > m.vertices[top][1] - 1e-12 && m.vertices[v][0] > m.vertices[top][0]))
@@ -264,15 +239,9 @@ TEST(LinearModalAnalysis, HarmonicBalanceAtSmallAmplitudeMatchesIt)
 {
   // The tower-like strip again, driven at 1e-7 of its size: the first harmonic of HBM is the
   // linear response to ~1e-7 relative, at, below and above the first resonance.
-  const RawSimplexMesh<3> m = mesh("unit_square.geo", 0.3, 2);
-  SolidMaterial           material;
-  material.youngs_modulus = 1e4, material.thickness = 0.01;
-  SolidModel                 solid = make_plane_model(m, {material});
-  std::vector<HarmonicDrive> drives;
-  for (std::size_t v = 0; v < m.vertices.size(); ++v)
-    if (m.vertices[v][1] < 1e-9)
-      for (unsigned int i = 0; i < 2; ++i)
-        drives.push_back({2 * v + i, i == 0 ? 1e-7 : 0.0, 0.0, 0.0, solid.rest_positions[2 * v + i], {}, {}});
+  const auto              strip  = nlmech::testing::shaken_strip(1e-7, 0.0);
+  const auto             &solid  = strip.solid;
+  const auto             &drives = strip.drives;
   HarmonicBalanceSettings settings;
   settings.n_harmonics   = 3;
   settings.rayleigh_mass = 0.4;
