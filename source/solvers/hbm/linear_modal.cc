@@ -19,10 +19,14 @@ namespace nlmech
     AssertThrow(n <= 6000, dealii::ExcMessage("Linear modal analysis is dense: " + std::to_string(n) +
                                               " free unknowns are too many (at most 6000)."));
     const Eigen::SparseMatrix<double> K_full = hb.model().hessian(x_s);
-    Eigen::MatrixXd                   K(n, n);
+    std::vector<long>                 index(K_full.rows(), -1);
     for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = 0; j < n; ++j)
-        K(i, j) = K_full.coeff(hb.free()[i], hb.free()[j]);
+      index[hb.free()[i]] = long(i);
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n); // the free block, from the nonzeros
+    for (Eigen::Index c = 0; c < K_full.outerSize(); ++c)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(K_full, c); it; ++it)
+        if (index[it.row()] >= 0 && index[it.col()] >= 0)
+          K(index[it.row()], index[it.col()]) += it.value();
     for (const auto &d : hb.harmonic_drives()) // penalty drives: their springs
       {
         const auto it = std::find(hb.free().begin(), hb.free().end(), d.dof);
