@@ -7,6 +7,7 @@ packages=(
   libdeal.ii-dev        # deal.II 9.4: brings Trilinos 13.2, SUNDIALS, METIS, p4est, UMFPACK, MPI
   libgmsh-dev gmsh      # gmsh C++ API for meshing .geo sources
   libeigen3-dev libfftw3-dev libsuitesparse-dev
+  libopenblas0-serial   # optimised BLAS/LAPACK behind UMFPACK/CHOLMOD (serial: one thread per MPI rank)
   openmpi-bin
   python3 python3-matplotlib python3-numpy
 )

@@ -227,6 +227,12 @@ namespace nlmech
         prm.declare_entry("Adaptive frequency", "0", Patterns::Double(0),
                           "Where the number of harmonics is chosen; 0: the start frequency [rad/s].");
         prm.declare_entry(
+            "Stability", "hill", Patterns::Selection("hill|floquet|none"),
+            "Stability of every point: hill (Hill's method: the Floquet exponents from the HBM "
+            "Jacobian by shift-and-invert Arnoldi, reusing the continuation's factorisation; any "
+            "size), floquet (monodromy matrix by RK4, dense: a time-domain cross-check for models "
+            "of up to a few dozen free unknowns) or none.");
+        prm.declare_entry(
             "Linear modal reference", "true", Patterns::Bool(),
             "Add the linear modal analysis response at the static state (dense eigenproblem, up "
             "to 3000 free unknowns) to the curve's CSV and plot.");
@@ -344,8 +350,14 @@ namespace nlmech
         continuation.max_amplitude      = prm.get_double("Maximum amplitude");
         continuation.relative_tolerance = prm.get_double("Tolerance");
         linear_reference                = prm.get_bool("Linear modal reference");
-        adaptive_threshold              = prm.get_double("Adaptive harmonics");
-        adaptive_frequency              = prm.get_double("Adaptive frequency");
+        {
+          const std::string method = prm.get("Stability");
+          continuation.stability   = method == "floquet" ? StabilityMethod::floquet
+                                     : method == "none"  ? StabilityMethod::none
+                                                         : StabilityMethod::hill;
+        }
+        adaptive_threshold = prm.get_double("Adaptive harmonics");
+        adaptive_frequency = prm.get_double("Adaptive frequency");
         prm.leave_subsection();
         prm.enter_subsection("Newmark check");
         check_frequencies = parse_number_list(prm.get("Frequencies"), "Frequencies");
@@ -458,7 +470,7 @@ namespace nlmech
         if (!lma.empty())
           csv << ",lma_amplitude_A,lma_half_range";
         csv << "\n";
-        unsigned int folds = 0, unstable = 0;
+        unsigned int folds = 0, unstable = 0, undetermined = 0, hill = 0;
         for (std::size_t i = 0; i < frc.points.size(); ++i)
           {
             const auto &p = frc.points[i];
@@ -468,7 +480,7 @@ namespace nlmech
             if (!lma.empty())
               csv << "," << json_number(lma[i].first) << "," << json_number(lma[i].second);
             csv << "\n";
-            folds += p.fold, unstable += p.stable == 0;
+            folds += p.fold, unstable += p.stable == 0, undetermined += p.stable < 0, hill += p.hill;
           }
         peaks << "omega,amplitude_A,half_range\n";
         for (const auto &p : frc.peaks)
@@ -477,6 +489,11 @@ namespace nlmech
         context.summary.add_number("points", frc.points.size());
         context.summary.add_number("folds", folds);
         context.summary.add_number("unstable_points", unstable);
+        context.summary.add_number("stability_undetermined_points", undetermined);
+        context.summary.add_string("stability_method", undetermined == frc.points.size() ? "none"
+                                                       : hill > 0                        ? "hill"
+                                                                                         : "floquet");
+        context.summary.add_figure("stability_time", frc.stability_seconds, "s");
         context.summary.add_number("resonance_peaks", frc.peaks.size());
         if (!frc.peaks.empty())
           {

@@ -21,6 +21,67 @@ namespace nlmech
              std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.outerSize() + 1, b.outerIndexPtr()) &&
              std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
     }
+    /// Entry (p, q) of the time derivative in the harmonic basis [c_0, s_1, c_1, ...]: harmonic k's
+    /// derivative couples its sine and cosine, d/dt (s sin + c cos) = -k w c sin + k w s cos.
+    double harmonic_derivative(const std::size_t p, const std::size_t q, const double omega)
+    {
+      if (p == 0 || (p + 1) / 2 != (q + 1) / 2 || p == q)
+        return 0.0;
+      const double k = double((p + 1) / 2);
+      return p % 2 == 1 ? -k * omega : k * omega; // (s, c) and (c, s)
+    }
+
+    /// The (2H+1) n square matrix of harmonic blocks on the pattern of `tangent` (compressed) plus
+    /// its diagonal: entry (p n + r, q n + c) = blocks(p B + q, e) for the tangent's nonzero e at
+    /// (r, c), plus diagonal(p, q, i) where r = c = i. Written straight into compressed storage:
+    /// a triplet list of (2H+1)^2 entries per nonzero took longer to sort than the rest of the
+    /// Jacobian.
+    template <typename Diagonal>
+    Eigen::SparseMatrix<double> harmonic_block_matrix(const Eigen::SparseMatrix<double> &tangent,
+                                                      const Eigen::MatrixXd &blocks, const std::size_t B,
+                                                      const Diagonal &diagonal)
+    {
+      AssertThrow(tangent.isCompressed() && tangent.rows() == tangent.cols(),
+                  dealii::ExcMessage("Harmonic balance: the tangent must be square and compressed."));
+      const Eigen::Index n = tangent.cols();
+      // Rows of every column with the tangent's entry (-1: a diagonal outside its pattern).
+      std::vector<Eigen::Index> start(n + 1, 0), rows, entry;
+      rows.reserve(tangent.nonZeros() + n), entry.reserve(tangent.nonZeros() + n);
+      for (Eigen::Index c = 0; c < n; ++c)
+        {
+          bool has_diagonal = false;
+          for (Eigen::Index e = tangent.outerIndexPtr()[c]; e < tangent.outerIndexPtr()[c + 1]; ++e)
+            {
+              const Eigen::Index r = tangent.innerIndexPtr()[e];
+              if (!has_diagonal && r > c)
+                rows.push_back(c), entry.push_back(-1), has_diagonal = true;
+              has_diagonal = has_diagonal || r == c;
+              rows.push_back(r), entry.push_back(e);
+            }
+          if (!has_diagonal)
+            rows.push_back(c), entry.push_back(-1);
+          start[c + 1] = Eigen::Index(rows.size());
+        }
+      Eigen::SparseMatrix<double> A(n * Eigen::Index(B), n * Eigen::Index(B));
+      A.resizeNonZeros(Eigen::Index(rows.size() * B * B));
+      Eigen::Index k       = 0;
+      A.outerIndexPtr()[0] = 0;
+      for (std::size_t q = 0; q < B; ++q)
+        for (Eigen::Index c = 0; c < n; ++c)
+          {
+            for (std::size_t p = 0; p < B; ++p)
+              for (Eigen::Index i = start[c]; i < start[c + 1]; ++i, ++k)
+                {
+                  A.innerIndexPtr()[k] = int(Eigen::Index(p) * n + rows[i]);
+                  double value         = entry[i] >= 0 ? blocks(Eigen::Index(p * B + q), entry[i]) : 0.0;
+                  if (rows[i] == c)
+                    value += diagonal(p, q, std::size_t(c));
+                  A.valuePtr()[k] = value;
+                }
+            A.outerIndexPtr()[Eigen::Index(q) * n + c + 1] = int(k);
+          }
+      return A;
+    }
   } // namespace
 
   /// FFTW plans for all free unknowns at once (one real transform of length N per unknown).
@@ -429,9 +490,31 @@ namespace nlmech
     return linear_part(z, omega, true) - to_frequency(df_domega);
   }
 
-  Eigen::SparseMatrix<double> HarmonicBalance::jacobian(const Eigen::VectorXd &z, const double omega) const
+  Eigen::SparseMatrix<double> HarmonicBalance::hill_damping(const Eigen::VectorXd &z,
+                                                            const double           omega) const
   {
-    const std::size_t                        n = free_dofs.size(), B = 2 * H + 1;
+    if (settings.rayleigh_stiffness > 0)
+      {
+        Eigen::SparseMatrix<double> D1;
+        jacobian(z, omega, &D1);
+        return D1;
+      }
+    // Without stiffness damping df/dv = 0: Delta_1 is constant, 2 M d/dt + D_alpha M per block.
+    const std::size_t           n = free_dofs.size(), B = 2 * H + 1;
+    Eigen::SparseMatrix<double> pattern{Eigen::Index(n), Eigen::Index(n)};
+    pattern.setIdentity();
+    pattern.makeCompressed();
+    return harmonic_block_matrix(pattern, Eigen::MatrixXd::Zero(Eigen::Index(B * B), Eigen::Index(n)), B,
+                                 [&](std::size_t p, std::size_t q, std::size_t i) {
+                                   return 2 * mass[i] * harmonic_derivative(p, q, omega) +
+                                          (p == q ? settings.rayleigh_mass * mass[i] : 0.0);
+                                 });
+  }
+
+  Eigen::SparseMatrix<double> HarmonicBalance::jacobian(const Eigen::VectorXd &z, const double omega,
+                                                        Eigen::SparseMatrix<double> *hill_damping) const
+  {
+    const std::size_t                        B = 2 * H + 1;
     std::vector<Eigen::SparseMatrix<double>> Kx, Kv;
     sample_forces(z, omega, &Kx, &Kv);
     for (unsigned int j = 1; j < N; ++j)
@@ -456,29 +539,24 @@ namespace nlmech
                             Pv(p * B + q, j) = gamma_inverse(p, j) * gv;
           }
       }
-    const Eigen::MatrixXd C = Px * Wx + Pv * Wv;
-
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(std::size_t(nnz) * B * B + 4 * n * H);
-    Eigen::Index e = 0;
-    for (Eigen::Index col = 0; col < Kx[0].outerSize(); ++col)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(Kx[0], col); it; ++it, ++e)
-        for (std::size_t p = 0; p < B; ++p)
-          for (std::size_t q = 0; q < B; ++q)
-            t.emplace_back(p * n + it.row(), q * n + it.col(), -C(p * B + q, e));
-    for (unsigned int k = 1; k <= H; ++k)
-      for (std::size_t i = 0; i < n; ++i)
-        {
-          const std::size_t s = (2 * k - 1) * n + i, c = (2 * k) * n + i;
-          const double      m = mass[i], d = settings.rayleigh_mass * mass[i];
-          t.emplace_back(s, s, -std::pow(k * omega, 2) * m);
-          t.emplace_back(c, c, -std::pow(k * omega, 2) * m);
-          t.emplace_back(s, c, -double(k) * omega * d);
-          t.emplace_back(c, s, k * omega * d);
-        }
-    Eigen::SparseMatrix<double> J(n * B, n * B);
-    J.setFromTriplets(t.begin(), t.end());
-    J.makeCompressed();
+    // Harmonic k's derivative couples its sine and cosine rows: d/dt (s sin + c cos) has sine part
+    // -k w c and cosine part k w s. Mass terms: inertia -(k w)^2 m on the diagonal, damping
+    // D_alpha m times the derivative.
+    auto derivative         = [&](std::size_t p, std::size_t q) { return harmonic_derivative(p, q, omega); };
+    const Eigen::MatrixXd C = -(Px * Wx + Pv * Wv);
+    const auto J = harmonic_block_matrix(Kx[0], C, B, [&](std::size_t p, std::size_t q, std::size_t i) {
+      const double k = double((p + 1) / 2);
+      return (p == q ? -std::pow(k * omega, 2) * mass[i] : 0.0) +
+             settings.rayleigh_mass * mass[i] * derivative(p, q);
+    });
+    if (hill_damping)
+      {
+        // Hill's Delta_1: the harmonic coefficients of 2 M p' + D_alpha M p - df/dv p.
+        const Eigen::MatrixXd C1 = -(Px * Wv);
+        *hill_damping = harmonic_block_matrix(Kx[0], C1, B, [&](std::size_t p, std::size_t q, std::size_t i) {
+          return 2 * mass[i] * derivative(p, q) + (p == q ? settings.rayleigh_mass * mass[i] : 0.0);
+        });
+      }
     return J;
   }
 

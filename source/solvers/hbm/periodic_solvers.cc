@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <iostream>
 #include <limits>
@@ -29,27 +30,30 @@ namespace nlmech
       std::copy(e.data(), e.data() + e.size(), v.begin());
     }
 
-    /// [[J, h_w], [row^T, 0]] for the bordered systems of the continuation (2.3.19).
+    /// [[J, h_w], [row^T, row_omega]] for the bordered systems of the continuation (2.3.19), copied
+    /// column by column into compressed storage (J is compressed, the new row is the last).
     Eigen::SparseMatrix<double> bordered(const Eigen::SparseMatrix<double> &J, const Eigen::VectorXd &h_omega,
                                          const Eigen::VectorXd &row_z, double row_omega)
     {
-      const Eigen::Index                  n = J.rows();
-      std::vector<Eigen::Triplet<double>> t;
-      t.reserve(J.nonZeros() + 2 * n + 1);
-      for (Eigen::Index c = 0; c < J.outerSize(); ++c)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it)
-          t.emplace_back(it.row(), it.col(), it.value());
-      for (Eigen::Index i = 0; i < n; ++i)
-        {
-          if (h_omega[i] != 0)
-            t.emplace_back(i, n, h_omega[i]);
-          if (row_z[i] != 0)
-            t.emplace_back(n, i, row_z[i]);
-        }
-      t.emplace_back(n, n, row_omega);
+      AssertThrow(J.isCompressed(), dealii::ExcMessage("bordered: the Jacobian must be compressed."));
+      const Eigen::Index          n = J.rows();
       Eigen::SparseMatrix<double> B(n + 1, n + 1);
-      B.setFromTriplets(t.begin(), t.end());
-      B.makeCompressed();
+      B.resizeNonZeros(J.nonZeros() + (row_z.array() != 0).count() + (h_omega.array() != 0).count() + 1);
+      Eigen::Index k = 0;
+      for (Eigen::Index c = 0; c < n; ++c)
+        {
+          B.outerIndexPtr()[c] = int(k);
+          for (Eigen::Index e = J.outerIndexPtr()[c]; e < J.outerIndexPtr()[c + 1]; ++e, ++k)
+            B.innerIndexPtr()[k] = J.innerIndexPtr()[e], B.valuePtr()[k] = J.valuePtr()[e];
+          if (row_z[c] != 0)
+            B.innerIndexPtr()[k] = int(n), B.valuePtr()[k++] = row_z[c];
+        }
+      B.outerIndexPtr()[n] = int(k);
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (h_omega[i] != 0)
+          B.innerIndexPtr()[k] = int(i), B.valuePtr()[k++] = h_omega[i];
+      B.innerIndexPtr()[k] = int(n), B.valuePtr()[k++] = row_omega;
+      B.outerIndexPtr()[n + 1] = int(k);
       return B;
     }
 
@@ -264,6 +268,110 @@ namespace nlmech
     return result;
   }
 
+  HillResult hill_stability(const HarmonicBalance &hb, const Eigen::VectorXd &z, const double omega,
+                            const std::function<Eigen::VectorXd(const Eigen::VectorXd &)> &solve_jacobian,
+                            const double tolerance, const unsigned int max_krylov_dimension)
+  {
+    const Eigen::SparseMatrix<double> D1 = hb.hill_damping(z, omega);
+    const Eigen::Index                N = D1.rows(), n = Eigen::Index(hb.n_free());
+    SparseFactorization               own;
+    if (!solve_jacobian)
+      own.factorize(hb.jacobian(z, omega), false);
+    auto solve = [&](const Eigen::VectorXd &b) { return solve_jacobian ? solve_jacobian(b) : own.solve(b); };
+    // Delta_2: the free masses in every harmonic block.
+    Eigen::VectorXd D2(N);
+    for (Eigen::Index b = 0; b < N / n; ++b)
+      D2.segment(b * n, n) = hb.free_mass();
+    // First-order form A y = lambda B y with y = (u, lambda u), A = [[0, I], [-D0, -D1]],
+    // B = diag(I, D2). Shift-and-invert at 0: T = A^-1 B, theta = 1 / lambda,
+    // T (y1, y2) = (-D0^-1 (D1 y1 + D2 y2), y1).
+    auto apply = [&](const Eigen::VectorXd &y) {
+      Eigen::VectorXd out(2 * N);
+      out.head(N) = -solve(D1 * y.head(N) + D2.cwiseProduct(y.tail(N)));
+      out.tail(N) = y.head(N);
+      return out;
+    };
+    const Eigen::Index m_max  = std::min<Eigen::Index>(2 * N, max_krylov_dimension);
+    const double       radius = omega, T       = 2 * pi / omega;
+    Eigen::MatrixXd    V(2 * N, m_max + 1), Hm = Eigen::MatrixXd::Zero(m_max + 1, m_max);
+    // A fixed, generic start vector (a deterministic pseudo-random sequence).
+    std::uint64_t state = 0x9E3779B97F4A7C15ull;
+    for (Eigen::Index i = 0; i < 2 * N; ++i)
+      {
+        state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+        V(i, 0) = double(state % 2000001) / 1e6 - 1.0;
+      }
+    V.col(0).normalize();
+    HillResult   result;
+    Eigen::Index m         = 0;
+    bool         invariant = false;
+    while (true)
+      {
+        const Eigen::Index target = std::min(m_max, m == 0 ? std::min<Eigen::Index>(m_max, 30) : m + 30);
+        for (; m < target && !invariant; ++m)
+          {
+            Eigen::VectorXd w = apply(V.col(m));
+            AssertThrow(w.allFinite(),
+                        dealii::ExcMessage("Hill's method: the solve with the Jacobian failed."));
+            const double norm0 = w.norm();
+            // Classical Gram-Schmidt, twice (full reorthogonalisation).
+            for (int pass = 0; pass < 2; ++pass)
+              {
+                const Eigen::VectorXd h = V.leftCols(m + 1).transpose() * w;
+                w -= V.leftCols(m + 1) * h;
+                Hm.col(m).head(m + 1) += h;
+              }
+            Hm(m + 1, m) = w.norm();
+            if (Hm(m + 1, m) <= 1e-13 * norm0)
+              invariant = true, Hm(m + 1, m) = 0;
+            else
+              V.col(m + 1) = w / Hm(m + 1, m);
+          }
+        // Ritz pairs; residual |h_{m+1,m}| |e_m^T s| of unit eigenvectors s.
+        Eigen::EigenSolver<Eigen::MatrixXd> eig(Hm.topLeftCorner(m, m), true);
+        const double                        beta          = Hm(m, m - 1);
+        bool                                all_converged = true;
+        unsigned int                        inside        = 0;
+        result.exponents.clear();
+        double max_real = -std::numeric_limits<double>::infinity();
+        for (Eigen::Index i = 0; i < m; ++i)
+          {
+            const std::complex<double> theta = eig.eigenvalues()[i];
+            if (std::abs(theta) * radius < 1) // |lambda| > radius
+              continue;
+            ++inside;
+            const double residual =
+                beta * std::abs(eig.eigenvectors()(m - 1, i)) / eig.eigenvectors().col(i).norm();
+            if (residual > 1e-8 * std::abs(theta))
+              {
+                all_converged = false;
+                continue;
+              }
+            const std::complex<double> lambda = 1.0 / theta;
+            if (std::abs(lambda.imag()) <= 0.5 * omega * (1 + 1e-9))
+              {
+                result.exponents.push_back(lambda);
+                max_real = std::max(max_real, lambda.real());
+              }
+          }
+        result.krylov_dimension = unsigned(m);
+        // Done when everything within the radius has converged and the Krylov space reaches well
+        // beyond it (half of the Ritz values outside), or the space is exhausted.
+        const bool done = (all_converged && 2 * Eigen::Index(inside) < m) || invariant || m >= m_max;
+        if (!done)
+          continue;
+        result.determined = all_converged;
+        if (max_real == -std::numeric_limits<double>::infinity())
+          max_real = -std::sqrt(0.75) * radius; // no exponent within the radius: all are below this
+        result.max_real_part  = max_real;
+        result.max_multiplier = std::exp(max_real * T);
+        result.stable         = max_real * T <= std::log1p(tolerance);
+        std::sort(result.exponents.begin(), result.exponents.end(),
+                  [](auto a, auto b) { return a.real() > b.real(); });
+        return result;
+      }
+  }
+
   FrequencyResponse trace_frequency_response(const HarmonicBalance &hb, Eigen::VectorXd z,
                                              const ContinuationSettings &settings)
   {
@@ -391,11 +499,37 @@ namespace nlmech
       r.half_range = 0;
       for (const std::size_t d : settings.tracked_dofs)
         r.half_range = std::max(r.half_range, hb.half_range(p.z, p.omega, d));
-      if (settings.stability && hb.n_free() <= settings.max_free_for_stability)
+      const auto started = std::chrono::steady_clock::now();
+      if (settings.stability == StabilityMethod::floquet)
         {
           const FloquetResult f = floquet_stability(hb, p.z, p.omega);
           r.stable = f.stable, r.max_multiplier = f.max_multiplier;
         }
+      else if (settings.stability != StabilityMethod::none)
+        {
+          // Solves with the Jacobian from the bordered factorisation at p (bordering lemma): with
+          // [J h_w; r^T c] (u, mu) = (b, 0) and the tangent J t_z + h_w t_w = 0,
+          // J^-1 b = u - mu t_z / t_w. Exactly at a fold (t_w = 0) J is singular.
+          const Eigen::Index n_z   = p.z.size();
+          auto               solve = [&](const Eigen::VectorXd &b) {
+            Eigen::VectorXd rhs(n_z + 1);
+            rhs.head(n_z) = b, rhs[n_z] = 0;
+            const Eigen::VectorXd u = at_current.solve(rhs);
+            return Eigen::VectorXd(u.head(n_z) - u[n_z] / p.tomega * p.tz);
+          };
+          try
+            {
+              const HillResult h = std::abs(p.tomega) > 0 ? hill_stability(hb, p.z, p.omega, solve)
+                                                                 : hill_stability(hb, p.z, p.omega);
+              r.stable = h.determined ? int(h.stable) : -1, r.max_multiplier = h.max_multiplier;
+              r.hill = true;
+            }
+          catch (const std::exception &)
+            {
+              r.stable = -1; // exactly singular (at a fold): left undetermined
+            }
+        }
+      response.stability_seconds += since(started);
       if (!response.points.empty() && (response.points.back().d_omega_ds > 0) != (r.d_omega_ds > 0))
         response.points.back().fold = true;
       response.points.push_back(r);

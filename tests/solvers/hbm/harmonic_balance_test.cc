@@ -329,3 +329,101 @@ TEST(HarmonicBalance, ShellErrorAgainstNewmarkFallsWithTheNumberOfHarmonics)
   EXPECT_LE(errors[2], errors[1] * 1.01);
   EXPECT_LT(errors[2], 1e-3);
 }
+
+TEST(HarmonicBalance, HillExponentsOfALinearOscillatorAreExact)
+{
+  // m x'' + (alpha m + beta k) x' + k x = f cos(w t): with zeta w_0 = (alpha + beta k / m) / 2 the
+  // exponents are -zeta w_0 +- i sqrt(k/m - (zeta w_0)^2) (mod i w).
+  const double            m = 1.0, k = 4.0, beta = 0.02, omega = 1.3;
+  const double            alpha = 0.2 + beta * k / m; // the same total damping as before
+  const Model             model = duffing(m, k, 0.0);
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics        = 4;
+  settings.rayleigh_mass      = 0.2;
+  settings.rayleigh_stiffness = beta;
+  const HarmonicBalance hb(model, settings, {{1, 0.5, 0.0}});
+  Eigen::VectorXd       z = Eigen::VectorXd::Zero(hb.n_unknowns());
+  ASSERT_TRUE(solve_periodic_state(hb, z, omega).converged);
+  const HillResult h = hill_stability(hb, z, omega);
+  ASSERT_TRUE(h.determined);
+  EXPECT_TRUE(h.stable);
+  const double damped = std::sqrt(k / m - alpha * alpha / 4);
+  // The exponent's copy in the strip |Im| <= w / 2: damped frequency folded by multiples of w.
+  const double folded = damped - omega * std::round(damped / omega);
+  ASSERT_EQ(h.exponents.size(), 2u);
+  for (const auto &lambda : h.exponents)
+    {
+      EXPECT_NEAR(lambda.real(), -alpha / 2, 1e-10);
+      EXPECT_NEAR(std::abs(lambda.imag()), std::abs(folded), 1e-10);
+    }
+  EXPECT_NEAR(h.max_multiplier, std::exp(-alpha / 2 * 2 * pi / omega), 1e-10);
+}
+
+TEST(HarmonicBalance, HillAgreesWithFloquetOnTheForcedDuffingCurve)
+{
+  const Model             model = duffing(1.0, 1.0, 1.0);
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics   = 7;
+  settings.rayleigh_mass = 0.1;
+  const HarmonicBalance hb(model, settings, {{1, 0.5, 0.0}});
+  ContinuationSettings  cs;
+  cs.omega_start = 0.5, cs.omega_end = 2.5, cs.tracked_dofs = {1}, cs.max_step = 0.05;
+  cs.stability                 = StabilityMethod::floquet;
+  const FrequencyResponse frc  = trace_frequency_response(hb, Eigen::VectorXd::Zero(hb.n_unknowns()), cs);
+  cs.stability                 = StabilityMethod::hill;
+  const FrequencyResponse hill = trace_frequency_response(hb, Eigen::VectorXd::Zero(hb.n_unknowns()), cs);
+  ASSERT_TRUE(frc.completed && hill.completed);
+  ASSERT_EQ(frc.points.size(), hill.points.size());
+  double       worst            = 0;
+  unsigned int unstable_floquet = 0, unstable_hill = 0, compared = 0;
+  for (std::size_t i = 0; i < frc.points.size(); ++i)
+    {
+      const ResponsePoint &f = frc.points[i], &h = hill.points[i];
+      ASSERT_NEAR(f.omega, h.omega, 1e-12);
+      unstable_floquet += f.stable == 0, unstable_hill += h.stable == 0;
+      if (h.stable < 0)
+        continue; // exactly at a fold
+      ++compared;
+      worst = std::max(worst, std::abs(h.max_multiplier - f.max_multiplier) / f.max_multiplier);
+      if (std::abs(f.max_multiplier - 1) > 1e-4)
+        {
+          EXPECT_EQ(f.stable, h.stable)
+              << "at w = " << f.omega << ": |mu| " << f.max_multiplier << " vs " << h.max_multiplier;
+        }
+    }
+  std::printf("forced Duffing, Hill vs Floquet: %u of %zu points compared, largest multiplier difference "
+              "%.2g, unstable points %u (Floquet) %u (Hill)\n",
+              compared, frc.points.size(), worst, unstable_floquet, unstable_hill);
+  EXPECT_GT(compared + 2, frc.points.size());
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_GT(unstable_hill, 0u);
+  EXPECT_LE(std::abs(int(unstable_hill) - int(unstable_floquet)), 1);
+}
+
+TEST(HarmonicBalance, HillAgreesWithFloquetOnAStripWithStiffnessDamping)
+{
+  // A shaken plane strip (50 free unknowns), large motion, D_beta > 0 so that Hill's Delta_1
+  // carries the per-sample velocity tangents too. Hill's exponents converge with N_H like the
+  // solution does: at 6 rad/s the largest multiplier differs from Floquet's by 7e-3 at N_H = 5,
+  // 1.3e-5 at 9 and 8e-8 at 13 (the N_H = 5 solution itself is 0.7 % off there).
+  const auto              s = nlmech::testing::shaken_strip(0.05, 0.0);
+  HarmonicBalanceSettings settings;
+  settings.n_harmonics        = 9;
+  settings.rayleigh_mass      = 0.5;
+  settings.rayleigh_stiffness = 0.002;
+  const HarmonicBalance hb(s.solid.model, settings, {}, s.drives);
+  for (const double omega : {3.0, 6.0})
+    {
+      Eigen::VectorXd z = hb.static_coefficients(s.solid.rest_positions);
+      ASSERT_TRUE(solve_with_excitation_ramp(hb, z, omega).converged);
+      const FloquetResult f = floquet_stability(hb, z, omega, 1000);
+      const HillResult    h = hill_stability(hb, z, omega);
+      std::printf("strip at w = %.1f (%zu free): |mu| Floquet %.8f, Hill %.8f, %zu exponents, Krylov %u\n",
+                  omega, hb.n_free(), f.max_multiplier, h.max_multiplier, h.exponents.size(),
+                  h.krylov_dimension);
+      ASSERT_TRUE(h.determined);
+      EXPECT_EQ(f.stable, h.stable);
+      EXPECT_NEAR(h.max_multiplier, f.max_multiplier, 1e-4 * f.max_multiplier);
+      EXPECT_FALSE(h.exponents.empty());
+    }
+}

@@ -87,8 +87,15 @@ namespace nlmech
     /// z of the static configuration x (c_0 = free part of x, all harmonics zero).
     Eigen::VectorXd static_coefficients(const Eigen::VectorXd &x) const;
 
-    Eigen::VectorXd             residual(const Eigen::VectorXd &z, double omega) const;
-    Eigen::SparseMatrix<double> jacobian(const Eigen::VectorXd &z, double omega) const;
+    Eigen::VectorXd residual(const Eigen::VectorXd &z, double omega) const;
+    /// dh/dz (2.3.13); with `hill_damping`, also Delta_1 of Hill's quadratic eigenproblem
+    /// (Delta_0 + lambda Delta_1 + lambda^2 Delta_2) u = 0 for the Floquet exponents lambda, where
+    /// Delta_0 = dh/dz, Delta_2 = M in every harmonic block: the coefficients of
+    /// 2 M u' + D_alpha M u - df/dv u.
+    Eigen::SparseMatrix<double> jacobian(const Eigen::VectorXd &z, double omega,
+                                         Eigen::SparseMatrix<double> *hill_damping = nullptr) const;
+    /// Delta_1 alone (constant, without sampling, when D_beta = 0).
+    Eigen::SparseMatrix<double> hill_damping(const Eigen::VectorXd &z, double omega) const;
     /// dh/dw at fixed z (2.3.18).
     Eigen::VectorXd d_residual_d_omega(const Eigen::VectorXd &z, double omega) const;
 
