@@ -9,7 +9,9 @@ packages=(
   libeigen3-dev libfftw3-dev libsuitesparse-dev
   libopenblas0-serial   # optimised BLAS/LAPACK behind UMFPACK/CHOLMOD (serial: one thread per MPI rank)
   openmpi-bin
+  coinor-libipopt-dev   # Ipopt: the general nonlinear-programming baseline of the strain-limiting benchmark
   python3 python3-matplotlib python3-numpy
+  python3-cvxopt        # reference conic solver for the SOCP tests
 )
 missing=()
 for p in "${packages[@]}"; do

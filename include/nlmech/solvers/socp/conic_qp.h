@@ -1,0 +1,93 @@
+#pragma once
+// A primal-dual interior-point solver for convex quadratic programs over products of second-order
+// cones (the strain-limiting projection of the SOCP paper, eqs. 5 and 12):
+//
+//   minimise 1/2 x^T P x + q^T x   subject to   s = h - G x,  s in K = Q^{d_1} x ... x Q^{d_m},
+//
+// with Q^d = {(t, y) in R x R^{d-1} : |y| <= t} and P diagonal, positive semi-definite. The method
+// follows Vandenberghe's description of CVXOPT's cone QP solver: Nesterov-Todd scaling W_i per cone
+// (W z = W^-1 s = lambda), Mehrotra predictor-corrector steps, the Newton systems reduced to the
+// normal equations (P + G^T W^-2 G) dx = r, factorised by CHOLMOD (supernodal) with the symbolic
+// analysis kept while the pattern of G does not change (across iterations and calls), one step of
+// iterative refinement, and the exact (closed-form) step to the boundary of every cone.
+//
+// Status: solved (residuals and gap below the tolerances), almost_solved (below the looser
+// tolerances when progress stalls or the iteration limit is hit), primal_infeasible (a certificate
+// z in K with G^T z ~ 0 and h^T z < 0), iteration_limit, numerical_error.
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+
+#include <string>
+#include <vector>
+
+namespace nlmech
+{
+  struct ConicQP
+  {
+    Eigen::VectorXd             P_diagonal; // n, >= 0
+    Eigen::VectorXd             q;          // n
+    Eigen::SparseMatrix<double> G;          // sum(d_i) x n
+    Eigen::VectorXd             h;          // sum(d_i)
+    std::vector<unsigned int>   cones;      // d_i >= 2 each, in the row order of G
+  };
+
+  enum class ConicStatus
+  {
+    solved,
+    almost_solved,
+    primal_infeasible,
+    iteration_limit,
+    numerical_error
+  };
+  std::string to_string(ConicStatus status);
+
+  struct ConicSettings
+  {
+    double       feasibility_tolerance   = 1e-9; // relative primal and dual residuals
+    double       gap_tolerance           = 1e-9; // relative duality gap
+    double       almost_factor           = 1e3;  // almost_solved: tolerances times this
+    double       infeasibility_tolerance = 1e-8;
+    unsigned int max_iterations          = 100;
+    double       step_fraction           = 0.99;
+  };
+
+  struct ConicResult
+  {
+    ConicStatus     status = ConicStatus::numerical_error;
+    Eigen::VectorXd x, s, z;
+    unsigned int    iterations      = 0;
+    double          primal_residual = 0, dual_residual = 0, gap = 0; // relative
+    double          objective = 0;                                   // 1/2 x^T P x + q^T x
+    double          seconds = 0, factorization_seconds = 0;
+  };
+
+  class ConicQPSolver
+  {
+  public:
+    ConicQPSolver();
+    /// Solves from the standard starting point (CVXOPT's: the least-squares point shifted into
+    /// the cones); `x_start` (optional) replaces x there.
+    ConicResult solve(const ConicQP &problem, const ConicSettings &settings = {},
+                      const Eigen::VectorXd *x_start = nullptr);
+
+    unsigned int n_symbolic_analyses = 0, n_factorizations = 0;
+
+  private:
+    void analyse(const ConicQP &problem);
+    /// Normal matrix P + sum_i G_i^T Winv2_i G_i into `normal` (fixed pattern).
+    void assemble(const ConicQP &problem, const std::vector<Eigen::MatrixXd> &Winv2);
+
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
+    Eigen::SparseMatrix<double>                                            normal;
+    // Per cone: the columns of G it touches, G_i densely on them, and where the entries of
+    // G_i^T W G_i go in normal.valuePtr() (lower triangle, -1 for the upper).
+    std::vector<std::vector<int>>  cone_columns;
+    std::vector<Eigen::MatrixXd>   cone_G;
+    std::vector<std::vector<long>> cone_slots;
+    std::vector<long>              diagonal_slot;
+    long                           pattern_rows = -1, pattern_cols = -1, pattern_nonzeros = -1;
+    std::vector<int>               pattern_inner, pattern_outer;
+  };
+} // namespace nlmech

@@ -1,0 +1,168 @@
+// The interior-point cone QP solver against independent checks: the KKT conditions, a closed-form
+// projection onto one cone, uniqueness from different starting points, infeasibility certificates.
+#include <nlmech/solvers/socp/conic_qp.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+using namespace nlmech;
+
+namespace
+{
+  /// A random feasible problem: n unknowns, m cones of dimension d, strictly feasible at x0.
+  ConicQP random_problem(unsigned int n, unsigned int m, unsigned int d, unsigned int seed, bool lp = false)
+  {
+    std::mt19937                           rng(seed);
+    std::normal_distribution<double>       normal;
+    std::uniform_real_distribution<double> uniform(0.1, 2.0);
+    ConicQP                                p;
+    p.P_diagonal = Eigen::VectorXd::NullaryExpr(n, [&]() { return lp ? 0.0 : uniform(rng); });
+    p.q          = Eigen::VectorXd::NullaryExpr(n, [&]() { return normal(rng); });
+    const Eigen::VectorXd               x0 = Eigen::VectorXd::NullaryExpr(n, [&]() { return normal(rng); });
+    std::vector<Eigen::Triplet<double>> t;
+    p.h.resize(m * d);
+    for (unsigned int i = 0; i < m; ++i)
+      {
+        // rows i d .. i d + d - 1 touch 3 random columns
+        std::vector<unsigned int> cols = {unsigned(rng() % n), unsigned(rng() % n), unsigned(rng() % n)};
+        Eigen::VectorXd           Gx0  = Eigen::VectorXd::Zero(d);
+        for (unsigned int r = 0; r < d; ++r)
+          for (unsigned int c : cols)
+            {
+              const double v = normal(rng);
+              t.emplace_back(i * d + r, c, v);
+              Gx0[r] += v * x0[c];
+            }
+        // h = G x0 + s0 with s0 strictly inside the cone
+        Eigen::VectorXd s0    = Eigen::VectorXd::NullaryExpr(d, [&]() { return normal(rng); });
+        s0[0]                 = s0.tail(d - 1).norm() + uniform(rng);
+        p.h.segment(i * d, d) = Gx0 + s0;
+        p.cones.push_back(d);
+      }
+    p.G.resize(m * d, n);
+    p.G.setFromTriplets(t.begin(), t.end());
+    p.G.makeCompressed();
+    if (lp) // bounded: |x| <= 10 by one more cone
+      {
+        p.G.conservativeResize(m * d + n + 1, n);
+        std::vector<Eigen::Triplet<double>> t2 = t;
+        for (unsigned int j = 0; j < n; ++j)
+          t2.emplace_back(m * d + 1 + j, j, -1.0);
+        p.G.setFromTriplets(t2.begin(), t2.end());
+        p.G.makeCompressed();
+        p.h.conservativeResize(m * d + n + 1);
+        p.h.tail(n + 1).setZero();
+        p.h[m * d] = 10 + x0.norm();
+        p.cones.push_back(n + 1);
+      }
+    return p;
+  }
+
+  /// Largest violation of the KKT conditions of a returned solution, relative.
+  double kkt_error(const ConicQP &p, const ConicResult &r)
+  {
+    const double stationarity =
+        (p.P_diagonal.cwiseProduct(r.x) + p.q + p.G.transpose() * r.z).norm() / std::max(1.0, p.q.norm());
+    const double primal = (r.s + p.G * r.x - p.h).norm() / std::max(1.0, p.h.norm());
+    double       cone = 0, offset = 0;
+    for (const unsigned int d : p.cones)
+      {
+        const auto s = r.s.segment(offset, d), z = r.z.segment(offset, d);
+        cone = std::max({cone, s.tail(d - 1).norm() - s[0], z.tail(d - 1).norm() - z[0]});
+        offset += d;
+      }
+    const double complementarity = std::abs(r.s.dot(r.z)) / std::max(1.0, std::abs(r.objective));
+    return std::max({stationarity, primal, cone, complementarity});
+  }
+} // namespace
+
+TEST(ConicQP, RandomProblemsMeetTheKktConditions)
+{
+  ConicQPSolver solver;
+  for (unsigned int seed = 1; seed <= 20; ++seed)
+    {
+      const ConicQP     p = random_problem(30, 25, 2 + seed % 4, seed, seed % 5 == 0);
+      const ConicResult r = solver.solve(p);
+      ASSERT_EQ(r.status, ConicStatus::solved) << "seed " << seed << ": " << to_string(r.status);
+      EXPECT_LT(kkt_error(p, r), 1e-8) << "seed " << seed;
+      EXPECT_LT(r.iterations, 40u);
+    }
+}
+
+TEST(ConicQP, ProjectionOntoOneConeIsTheClosedForm)
+{
+  // min 1/2 |x - a|^2 subject to |x_1| <= x_0: the Euclidean projection onto the cone.
+  ConicQPSolver solver;
+  const double  cases[][3] = {{1, 3, 0.5}, {-1, 0.3, -0.2}, {0.5, 2, 2}, {2, 0.1, 0.2}};
+  for (const auto &a_values : cases)
+    {
+      const Eigen::Vector3d a(a_values[0], a_values[1], a_values[2]);
+      ConicQP               p;
+      p.P_diagonal = Eigen::VectorXd::Ones(3);
+      p.q          = -a;
+      p.G.resize(3, 3);
+      p.G.setIdentity();
+      p.G *= -1.0;
+      p.G.makeCompressed();
+      p.h                 = Eigen::VectorXd::Zero(3);
+      p.cones             = {3};
+      const ConicResult r = solver.solve(p);
+      ASSERT_EQ(r.status, ConicStatus::solved);
+      // Closed form: inside -> a; in the polar cone -> 0; else ((t + |y|)/2) (1, y/|y|).
+      const double    t = a[0], ny = a.tail(2).norm();
+      Eigen::Vector3d expected;
+      if (ny <= t)
+        expected = a;
+      else if (ny <= -t)
+        expected.setZero();
+      else
+        expected << 0.5 * (t + ny), 0.5 * (t + ny) * a.tail(2) / ny;
+      EXPECT_LT((r.x - expected).norm(), 1e-8) << a.transpose();
+    }
+  EXPECT_EQ(solver.n_symbolic_analyses, 1u); // same pattern every time
+}
+
+TEST(ConicQP, SameSolutionFromDifferentStartingPoints)
+{
+  const ConicQP p = random_problem(40, 30, 4, 99);
+  // Strongly convex (P >= 0.1): |x - x*|^2 <= 2 gap / 0.1, so a tight gap pins x down.
+  ConicSettings settings;
+  settings.gap_tolerance = settings.feasibility_tolerance = 1e-12;
+  ConicQPSolver solver;
+  const auto    reference = solver.solve(p, settings);
+  ASSERT_TRUE(reference.status == ConicStatus::solved || reference.status == ConicStatus::almost_solved);
+  std::mt19937                     rng(3);
+  std::normal_distribution<double> normal(0, 10);
+  for (int k = 0; k < 5; ++k)
+    {
+      const Eigen::VectorXd start = Eigen::VectorXd::NullaryExpr(p.q.size(), [&]() { return normal(rng); });
+      const auto            r     = solver.solve(p, settings, &start);
+      ASSERT_TRUE(r.status == ConicStatus::solved || r.status == ConicStatus::almost_solved);
+      EXPECT_LT((r.x - reference.x).norm(), 1e-6 * std::max(1.0, reference.x.norm()));
+    }
+}
+
+TEST(ConicQP, InfeasibleProblemsAreDetected)
+{
+  // |x - 0| <= 1 and |x - 3| <= 1 in 1D (as 2D cones (1, x) and (1, x - 3)).
+  ConicQP p;
+  p.P_diagonal = Eigen::VectorXd::Ones(1);
+  p.q          = Eigen::VectorXd::Zero(1);
+  p.G.resize(4, 1);
+  p.G.insert(1, 0) = -1;
+  p.G.insert(3, 0) = -1;
+  p.G.makeCompressed();
+  p.h     = (Eigen::VectorXd(4) << 1, 0, 1, -3).finished();
+  p.cones = {2, 2};
+  ConicQPSolver     solver;
+  const ConicResult r = solver.solve(p);
+  EXPECT_EQ(r.status, ConicStatus::primal_infeasible) << to_string(r.status);
+  // Touching balls (distance 2): feasible, x = 1.
+  p.h[3]               = -2;
+  const ConicResult r2 = solver.solve(p);
+  EXPECT_TRUE(r2.status == ConicStatus::solved || r2.status == ConicStatus::almost_solved)
+      << to_string(r2.status);
+  EXPECT_NEAR(r2.x[0], 1.0, 1e-4);
+}
