@@ -1,0 +1,106 @@
+#pragma once
+// Implicit time stepping of a cloth sheet (CST St.Venant-Kirchhoff membrane + hinge bending, the
+// thin-shell model of models/dynamics/thin_shell.h) with gravity, pinned vertices, penalty
+// collisions with a sphere and a ground plane, and strain limiting by projection (the SOCP paper,
+// section 4; thesis ch. 3):
+//
+// - IE:  implicit Euler, x = argmin 1/(2 h^2) |x - x_n - h v_n|_M^2 + W(x) - f.x (Newton, CHOLMOD);
+// - SAP: IE, then the projection; v = (x - x_n) / h;
+// - SAR: the step-and-reflect of Algorithm 1 (half step, projection, reflection, half step,
+//        projection);
+// - BDF2: x = argmin 1/(2 (2h/3)^2) |x - x_hat|_M^2 + W - f.x with
+//        x_hat = (4 x_n - x_{n-1}) / 3 + 2h/9 (4 v_n - v_{n-1}); first step IE;
+// - BAP: BDF2, then the projection (English and Bridson 2008); BAR: SAR with a BDF2 second half.
+// Total energy = kinetic + elastic + gravity potential + penalty energy, recorded by the caller.
+
+#include <nlmech/models/cloth/strain_limits.h>
+#include <nlmech/models/dynamics/thin_shell.h>
+
+#include <memory>
+#include <string>
+
+namespace nlmech
+{
+  enum class ClothScheme
+  {
+    ie,
+    sap,
+    sar,
+    bdf2,
+    bap,
+    bar
+  };
+  ClothScheme parse_cloth_scheme(const std::string &name);
+  std::string to_string(ClothScheme scheme);
+  bool        uses_projection(ClothScheme scheme);
+
+  struct ClothSettings
+  {
+    double                time_step = 1.0 / 60; // [s]
+    ClothScheme           scheme    = ClothScheme::sar;
+    std::array<double, 3> gravity   = {{0, -9.81, 0}};
+    // Penalty collisions (stiffness 0: none): E = k/2 depth^2.
+    bool                  sphere        = false;
+    std::array<double, 3> sphere_center = {{0, 0, 0}};
+    double                sphere_radius = 0.1, sphere_stiffness = 0;
+    bool                  ground        = false;
+    double                ground_height = -1, ground_stiffness = 0;
+    double                newton_tolerance = 1e-8; // relative gradient
+  };
+
+  struct ClothStepStatistics
+  {
+    double       newton_seconds = 0, projection_seconds = 0;
+    unsigned int newton_iterations = 0, projections = 0, projection_iterations = 0;
+    double       violation         = 0; // after the step (relative, <= 0 when every limit holds)
+    ConicStatus  projection_status = ConicStatus::solved;
+  };
+
+  struct ClothEnergy
+  {
+    double kinetic = 0, elastic = 0, gravity = 0, contact = 0;
+    double total() const { return kinetic + elastic + gravity + contact; }
+  };
+
+  class ClothSimulation
+  {
+  public:
+    /// `limits` may be empty (no projection); the schemes with projection need it non-empty.
+    /// `pinned` vertices stay at their rest positions.
+    ClothSimulation(const RawSimplexMesh<3> &mesh, const ShellMaterial &material,
+                    const std::vector<unsigned int> &pinned, const StrainLimits &limits,
+                    const ClothSettings &settings, ConicSettings cone_settings = {});
+    ~ClothSimulation();
+
+    /// One time step. Throws a clear error when Newton diverges, the state becomes non-finite or a
+    /// projection fails (infeasible limits, iteration limit).
+    ClothStepStatistics step();
+    ClothEnergy         energy() const;
+
+    const Eigen::VectorXd &positions() const { return x; }
+    const Eigen::VectorXd &velocities() const { return v; }
+    Eigen::VectorXd       &positions() { return x; }
+    const ShellModel      &shell() const { return model; }
+    double                 time() const { return t; }
+    /// The projection alone (for benchmarks): x = P(x_hat).
+    ProjectionResult project(const Eigen::VectorXd &x_hat, Eigen::VectorXd &x_out);
+    /// An implicit Euler step's candidate from (x0, v0) over dt, without changing the state.
+    Eigen::VectorXd implicit_euler(const Eigen::VectorXd &x0, const Eigen::VectorXd &v0, double dt,
+                                   ClothStepStatistics &stats) const;
+    const std::map<std::size_t, double> &fixed() const { return model.model.fixed(); }
+    const Eigen::VectorXd               &mass() const { return model.model.lumped_mass(); }
+
+  private:
+    Eigen::VectorXd minimise(const Eigen::VectorXd &x_hat, double dt_effective, const Eigen::VectorXd &start,
+                             ClothStepStatistics &stats) const;
+    Eigen::VectorXd projected(const Eigen::VectorXd &x_hat, ClothStepStatistics &stats);
+
+    ShellModel                            model;
+    const StrainLimits                   &limits;
+    ClothSettings                         settings;
+    std::unique_ptr<StrainLimitProjector> projector;
+    Eigen::VectorXd                       x, v, x_previous, v_previous, force;
+    bool                                  has_history = false;
+    double                                t           = 0;
+  };
+} // namespace nlmech

@@ -1,0 +1,101 @@
+#pragma once
+// Direction-dependent stretch limits on triangle sheets (the SOCP paper, eqs. 1-5 and appendix A;
+// thesis ch. 3). For a rest triangle with material coordinates X_k (2D, in the sheet's warp/weft
+// frame) and deformed positions x_k, the deformation gradient F = [x_1 - x_0, x_2 - x_0] D_m^-1 is
+// linear in x, and so is the deformed image of a material direction d(alpha) = (cos alpha, sin alpha):
+//
+//   F d = c_0 x_0 + c_1 x_1 + c_2 x_2,   (c_1, c_2) = D_m^-1 d,  c_0 = -(c_1 + c_2),
+//
+// i.e. F d = A x with A = [c_0 I, c_1 I, c_2 I]. A limit b(alpha) >= 1 on the stretch |F d| is the
+// second-order cone |A x| <= b. Limits below 1 bound compression, which is not convex: rejected.
+//
+// The projection (eq. 5) min 1/2 |x - x_hat|_M^2 over all cones (pinned unknowns fixed) goes to
+// the interior-point ConicQPSolver; a per-constraint Gauss-Seidel projection is the baseline.
+
+#include <nlmech/mesh/gmsh_mesh.h>
+#include <nlmech/solvers/socp/conic_qp.h>
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <functional>
+#include <map>
+#include <vector>
+
+namespace nlmech
+{
+  /// A square sheet of side `size` [m] in the xz-plane (y up), corner at the origin, n x n quads
+  /// each cut into two triangles along alternating diagonals. Material axes: warp along x, weft
+  /// along z. Vertex (i, j) (i along x, j along z) has index j (n + 1) + i.
+  RawSimplexMesh<3> make_sheet_mesh(double size, unsigned int n);
+
+  /// One stretch limit per (triangle, direction): |c_0 x_a + c_1 x_b + c_2 x_c| <= bound.
+  struct StrainLimits
+  {
+    std::vector<std::array<unsigned int, 3>> vertices;
+    std::vector<std::array<double, 3>>       coefficients;
+    std::vector<double>                      bound;
+    std::vector<double>                      angle; // alpha [rad], in the material frame
+    std::size_t                              size() const { return bound.size(); }
+  };
+
+  /// Samples the polar limit curve b(alpha) at `directions` angles alpha_j = -pi/2 + (j + 1/2)
+  /// pi / directions in every triangle. Material coordinates: the rest positions' components along
+  /// `warp` and `weft` (unit vectors in the sheet's plane). Throws for b < 1 (compression bounds are
+  /// not convex) or a non-finite b.
+  StrainLimits make_strain_limits(const RawSimplexMesh<3> &mesh, const std::array<double, 3> &warp,
+                                  const std::array<double, 3> &weft, unsigned int directions,
+                                  const std::function<double(double)> &limit);
+
+  /// Largest relative violation max_i (|A_i x| - b_i) / b_i (<= 0 when every limit holds).
+  double max_violation(const StrainLimits &limits, const Eigen::VectorXd &x);
+
+  struct ProjectionResult
+  {
+    ConicStatus  status     = ConicStatus::numerical_error;
+    unsigned int iterations = 0;
+    double       seconds = 0, violation = 0, distance = 0; // distance |x - x_hat|_M
+  };
+
+  /// The SOCP projection with a solver (and its symbolic analysis) kept across calls.
+  class StrainLimitProjector
+  {
+  public:
+    /// `mass` per unknown (3 per vertex); `fixed` unknowns keep their values in every projection.
+    StrainLimitProjector(const StrainLimits &limits, const Eigen::VectorXd &mass,
+                         const std::map<std::size_t, double> &fixed, ConicSettings settings = {});
+    /// x = argmin 1/2 |x - x_hat|_M^2 subject to every limit (x_hat's fixed unknowns are ignored).
+    ProjectionResult project(const Eigen::VectorXd &x_hat, Eigen::VectorXd &x);
+    /// The cone problem of one projection (for comparisons with other solvers).
+    ConicQP problem(const Eigen::VectorXd &x_hat) const;
+    /// Full-length x from the free unknowns.
+    Eigen::VectorXd full(const Eigen::VectorXd &free_values) const;
+
+    const ConicQPSolver &solver() const { return cone_solver; }
+
+  private:
+    const StrainLimits           &limits;
+    Eigen::VectorXd               mass;
+    std::map<std::size_t, double> fixed;
+    ConicSettings                 settings;
+    std::vector<long>             free_index;
+    std::vector<std::size_t>      free_dofs;
+    double                        mass_scale = 1;
+    ConicQPSolver                 cone_solver;
+  };
+
+  struct GaussSeidelResult
+  {
+    bool         converged = false;
+    unsigned int sweeps    = 0;
+    double       seconds = 0, violation = 0;
+  };
+
+  /// The per-element baseline: sweeps over the limits projecting each violated one exactly (mass
+  /// weighted, closed form: A M^-1 A^T is a multiple of I) until the largest relative violation is
+  /// below `tolerance` or after `max_sweeps` sweeps or `max_seconds`.
+  GaussSeidelResult gauss_seidel_projection(const StrainLimits &limits, const Eigen::VectorXd &mass,
+                                            const std::map<std::size_t, double> &fixed, Eigen::VectorXd &x,
+                                            double tolerance = 1e-6, unsigned int max_sweeps = 100000,
+                                            double max_seconds = 1e300);
+} // namespace nlmech

@@ -1,0 +1,312 @@
+#include <deal.II/base/exceptions.h>
+
+#include <nlmech/models/cloth/cloth_simulation.h>
+#include <nlmech/solvers/newton/newton_solver.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace nlmech
+{
+  namespace
+  {
+    double since(std::chrono::steady_clock::time_point t0)
+    {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+
+    /// 1/(2 dt^2) |x - x_hat|_M^2 - f.x: inertia of an implicit step and the external forces.
+    class InertiaTerm : public EnergyTerm
+    {
+    public:
+      InertiaTerm(const Eigen::VectorXd &mass, Eigen::VectorXd x_hat, double dt, Eigen::VectorXd force)
+          : mass(mass)
+          , x_hat(std::move(x_hat))
+          , weight(1 / (dt * dt))
+          , force(std::move(force))
+      {
+      }
+      std::string name() const override { return "inertia"; }
+      double      value(const Eigen::VectorXd &x) const override
+      {
+        return 0.5 * weight * (x - x_hat).cwiseAbs2().dot(mass) - force.dot(x);
+      }
+      void add_gradient(const Eigen::VectorXd &x, Eigen::VectorXd &g) const override
+      {
+        g += weight * mass.cwiseProduct(x - x_hat) - force;
+      }
+      void add_hessian(const Eigen::VectorXd &, Triplets &h) const override
+      {
+        for (Eigen::Index i = 0; i < mass.size(); ++i)
+          h.emplace_back(i, i, weight * mass[i]);
+      }
+
+    private:
+      const Eigen::VectorXd &mass;
+      Eigen::VectorXd        x_hat;
+      double                 weight;
+      Eigen::VectorXd        force;
+    };
+
+    /// Penalty contact with a sphere and a ground plane y >= h: k/2 depth^2 per vertex.
+    class ContactTerm : public EnergyTerm
+    {
+    public:
+      explicit ContactTerm(const ClothSettings &s)
+          : s(s)
+      {
+      }
+      std::string name() const override { return "contact"; }
+      double      value(const Eigen::VectorXd &x) const override
+      {
+        double e = 0;
+        for (Eigen::Index v = 0; v < x.size() / 3; ++v)
+          {
+            const Eigen::Vector3d p = x.segment<3>(3 * v);
+            if (s.sphere)
+              e += 0.5 * s.sphere_stiffness *
+                   std::pow(std::max(0.0, s.sphere_radius - (p - center()).norm()), 2);
+            if (s.ground)
+              e += 0.5 * s.ground_stiffness * std::pow(std::max(0.0, s.ground_height - p[1]), 2);
+          }
+        return e;
+      }
+      void add_gradient(const Eigen::VectorXd &x, Eigen::VectorXd &g) const override
+      {
+        for (Eigen::Index v = 0; v < x.size() / 3; ++v)
+          {
+            const Eigen::Vector3d p = x.segment<3>(3 * v);
+            if (s.sphere)
+              {
+                const Eigen::Vector3d r = p - center();
+                const double          d = r.norm(), depth = s.sphere_radius - d;
+                if (depth > 0 && d > 0)
+                  g.segment<3>(3 * v) -= s.sphere_stiffness * depth * r / d;
+              }
+            if (s.ground && p[1] < s.ground_height)
+              g[3 * v + 1] -= s.ground_stiffness * (s.ground_height - p[1]);
+          }
+      }
+      void add_hessian(const Eigen::VectorXd &x, Triplets &h) const override
+      {
+        for (Eigen::Index v = 0; v < x.size() / 3; ++v)
+          {
+            const Eigen::Vector3d p = x.segment<3>(3 * v);
+            if (s.sphere)
+              {
+                const Eigen::Vector3d r = p - center();
+                const double          d = r.norm(), depth = s.sphere_radius - d;
+                if (depth > 0 && d > 0)
+                  {
+                    // k (n n^T - depth / d (I - n n^T)), with n = r / d.
+                    const Eigen::Vector3d n = r / d;
+                    const Eigen::Matrix3d H =
+                        s.sphere_stiffness *
+                        (n * n.transpose() - depth / d * (Eigen::Matrix3d::Identity() - n * n.transpose()));
+                    for (int a = 0; a < 3; ++a)
+                      for (int b = 0; b < 3; ++b)
+                        h.emplace_back(3 * v + a, 3 * v + b, H(a, b));
+                  }
+              }
+            if (s.ground && p[1] < s.ground_height)
+              h.emplace_back(3 * v + 1, 3 * v + 1, s.ground_stiffness);
+          }
+      }
+
+    private:
+      Eigen::Vector3d center() const
+      {
+        return Eigen::Vector3d(s.sphere_center[0], s.sphere_center[1], s.sphere_center[2]);
+      }
+      ClothSettings s;
+    };
+  } // namespace
+
+  ClothScheme parse_cloth_scheme(const std::string &name)
+  {
+    for (const ClothScheme s : {ClothScheme::ie, ClothScheme::sap, ClothScheme::sar, ClothScheme::bdf2,
+                                ClothScheme::bap, ClothScheme::bar})
+      if (to_string(s) == name)
+        return s;
+    AssertThrow(false, dealii::ExcMessage("Unknown time-stepping scheme '" + name +
+                                          "' (IE, SAP, SAR, BDF2, BAP or BAR)."));
+    return ClothScheme::ie;
+  }
+  std::string to_string(const ClothScheme scheme)
+  {
+    switch (scheme)
+      {
+        case ClothScheme::ie: return "IE";
+        case ClothScheme::sap: return "SAP";
+        case ClothScheme::sar: return "SAR";
+        case ClothScheme::bdf2: return "BDF2";
+        case ClothScheme::bap: return "BAP";
+        default: return "BAR";
+      }
+  }
+  bool uses_projection(const ClothScheme scheme)
+  {
+    return scheme == ClothScheme::sap || scheme == ClothScheme::sar || scheme == ClothScheme::bap ||
+           scheme == ClothScheme::bar;
+  }
+
+  ClothSimulation::ClothSimulation(const RawSimplexMesh<3> &mesh, const ShellMaterial &material,
+                                   const std::vector<unsigned int> &pinned, const StrainLimits &limits,
+                                   const ClothSettings &settings, ConicSettings cone_settings)
+      : model(make_shell_model(mesh, material))
+      , limits(limits)
+      , settings(settings)
+  {
+    AssertThrow(settings.time_step > 0 && std::isfinite(settings.time_step),
+                dealii::ExcMessage("Cloth: the time step must be positive."));
+    for (const unsigned int p : pinned)
+      {
+        AssertThrow(p < mesh.vertices.size(), dealii::ExcMessage("Cloth: a pinned vertex does not exist."));
+        for (unsigned int d = 0; d < 3; ++d)
+          model.model.fix(3 * p + d, model.rest_positions[3 * p + d]);
+      }
+    if (settings.sphere || settings.ground)
+      model.model.add_term(std::make_shared<ContactTerm>(settings));
+    x = model.rest_positions;
+    v = Eigen::VectorXd::Zero(x.size());
+    force.resize(x.size());
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      force[i] = model.model.lumped_mass()[i] * settings.gravity[std::size_t(i % 3)];
+    if (uses_projection(settings.scheme))
+      {
+        AssertThrow(limits.size() > 0, dealii::ExcMessage("Cloth: scheme " + to_string(settings.scheme) +
+                                                          " needs strain limits."));
+        projector = std::make_unique<StrainLimitProjector>(limits, model.model.lumped_mass(),
+                                                           model.model.fixed(), cone_settings);
+      }
+  }
+
+  ClothSimulation::~ClothSimulation() = default;
+
+  Eigen::VectorXd ClothSimulation::minimise(const Eigen::VectorXd &x_hat, const double dt_effective,
+                                            const Eigen::VectorXd &start, ClothStepStatistics &stats) const
+  {
+    const auto started = std::chrono::steady_clock::now();
+    Model      step(model.model.n_unknowns());
+    for (const auto &term : model.model.terms())
+      step.add_term(term);
+    step.lumped_mass() = model.model.lumped_mass();
+    for (const auto &f : model.model.fixed())
+      step.fix(f.first, f.second);
+    step.add_term(std::make_shared<InertiaTerm>(model.model.lumped_mass(), x_hat, dt_effective, force));
+    Eigen::VectorXd y = start;
+    NewtonSettings  ns;
+    ns.relative_tolerance = settings.newton_tolerance;
+    ns.max_iterations     = 100;
+    const auto r          = minimize_with_newton(step, y, ns);
+    stats.newton_iterations += r.iterations;
+    stats.newton_seconds += since(started);
+    AssertThrow(y.allFinite(), dealii::ExcMessage("Cloth: the implicit step produced non-finite positions."));
+    return y;
+  }
+
+  Eigen::VectorXd ClothSimulation::implicit_euler(const Eigen::VectorXd &x0, const Eigen::VectorXd &v0,
+                                                  const double dt, ClothStepStatistics &stats) const
+  {
+    return minimise(x0 + dt * v0, dt, x0 + dt * v0, stats);
+  }
+
+  ProjectionResult ClothSimulation::project(const Eigen::VectorXd &x_hat, Eigen::VectorXd &x_out)
+  {
+    AssertThrow(projector, dealii::ExcMessage("Cloth: no strain limits to project on."));
+    return projector->project(x_hat, x_out);
+  }
+
+  Eigen::VectorXd ClothSimulation::projected(const Eigen::VectorXd &x_hat, ClothStepStatistics &stats)
+  {
+    Eigen::VectorXd        out = x_hat;
+    const ProjectionResult r   = projector->project(x_hat, out);
+    stats.projection_seconds += r.seconds;
+    stats.projection_iterations += r.iterations;
+    ++stats.projections;
+    stats.projection_status = r.status;
+    AssertThrow(
+        r.status != ConicStatus::primal_infeasible,
+        dealii::ExcMessage("Strain limiting: the limits cannot be met together with the pinned vertices "
+                           "(the projection is primal infeasible: the pins are farther apart than "
+                           "the limits allow)."));
+    AssertThrow(r.status == ConicStatus::solved || r.status == ConicStatus::almost_solved,
+                dealii::ExcMessage("Strain limiting: the projection failed (" + to_string(r.status) +
+                                   " after " + std::to_string(r.iterations) + " iterations)."));
+    return out;
+  }
+
+  ClothStepStatistics ClothSimulation::step()
+  {
+    ClothStepStatistics   stats;
+    const double          h  = settings.time_step;
+    const Eigen::VectorXd x0 = x, v0 = v;
+    auto bdf2_target = [&](const Eigen::VectorXd &xn, const Eigen::VectorXd &vn, const Eigen::VectorXd &xp,
+                           const Eigen::VectorXd &vp, double dt) {
+      return Eigen::VectorXd((4 * xn - xp) / 3 + 2 * dt / 9 * (4 * vn - vp));
+    };
+    switch (settings.scheme)
+      {
+        case ClothScheme::ie:
+        case ClothScheme::sap:
+          {
+            Eigen::VectorXd y = implicit_euler(x0, v0, h, stats);
+            if (settings.scheme == ClothScheme::sap)
+              y = projected(y, stats);
+            x = y, v = (y - x0) / h;
+            break;
+          }
+        case ClothScheme::bdf2:
+        case ClothScheme::bap:
+          {
+            Eigen::VectorXd y;
+            if (!has_history)
+              y = implicit_euler(x0, v0, h, stats);
+            else
+              {
+                const Eigen::VectorXd target = bdf2_target(x0, v0, x_previous, v_previous, h);
+                y                            = minimise(target, 2 * h / 3, x0 + h * v0, stats);
+              }
+            if (settings.scheme == ClothScheme::bap)
+              y = projected(y, stats);
+            x = y;
+            v = has_history ? Eigen::VectorXd((3 * y - 4 * x0 + x_previous) / (2 * h))
+                            : Eigen::VectorXd((y - x0) / h);
+            break;
+          }
+        case ClothScheme::sar:
+        case ClothScheme::bar:
+          {
+            // Algorithm 1: half step, project, reflect, half step, project.
+            const Eigen::VectorXd xh_hat = implicit_euler(x0, v0, h / 2, stats);
+            const Eigen::VectorXd xh     = projected(xh_hat, stats);
+            const Eigen::VectorXd vh     = (xh - x0) / (h / 2);
+            const Eigen::VectorXd xr     = 2 * xh - xh_hat;
+            Eigen::VectorXd       x1;
+            if (settings.scheme == ClothScheme::sar)
+              x1 = implicit_euler(xr, vh, h / 2, stats);
+            else // BDF2 over the two half steps (x0, v0) -> (xr, vh)
+              x1 = minimise(bdf2_target(xr, vh, x0, v0, h / 2), h / 3, xr + h / 2 * vh, stats);
+            x1 = projected(x1, stats);
+            x = x1, v = (x1 - xr) / (h / 2);
+            break;
+          }
+      }
+    AssertThrow(x.allFinite() && v.allFinite(),
+                dealii::ExcMessage("Cloth: the state became non-finite (time step too large?)."));
+    x_previous = x0, v_previous = v0, has_history = true;
+    t += h;
+    stats.violation = limits.size() > 0 ? max_violation(limits, x) : 0.0;
+    return stats;
+  }
+
+  ClothEnergy ClothSimulation::energy() const
+  {
+    ClothEnergy e;
+    e.kinetic = 0.5 * v.cwiseAbs2().dot(model.model.lumped_mass());
+    e.gravity = -force.dot(x);
+    for (const auto &term : model.model.terms())
+      (term->name() == "contact" ? e.contact : e.elastic) += term->value(x);
+    return e;
+  }
+} // namespace nlmech

@@ -1,0 +1,250 @@
+#include <deal.II/base/exceptions.h>
+
+#include <nlmech/models/cloth/strain_limits.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace nlmech
+{
+  namespace
+  {
+    constexpr double pi = 3.14159265358979323846;
+    double           since(std::chrono::steady_clock::time_point t0)
+    {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+  } // namespace
+
+  RawSimplexMesh<3> make_sheet_mesh(const double size, const unsigned int n)
+  {
+    AssertThrow(n >= 1 && size > 0, dealii::ExcMessage("Sheet: needs a positive size and n >= 1."));
+    RawSimplexMesh<3> mesh;
+    for (unsigned int j = 0; j <= n; ++j)
+      for (unsigned int i = 0; i <= n; ++i)
+        mesh.vertices.emplace_back(size * i / n, 0.0, size * j / n);
+    auto v = [&](unsigned int i, unsigned int j) { return j * (n + 1) + i; };
+    for (unsigned int j = 0; j < n; ++j)
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          if ((i + j) % 2 == 0)
+            {
+              mesh.cells.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+              mesh.cells.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+            }
+          else
+            {
+              mesh.cells.push_back({v(i, j), v(i + 1, j), v(i, j + 1)});
+              mesh.cells.push_back({v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)});
+            }
+          mesh.cell_material.push_back(0), mesh.cell_material.push_back(0);
+        }
+    return mesh;
+  }
+
+  StrainLimits make_strain_limits(const RawSimplexMesh<3> &mesh, const std::array<double, 3> &warp,
+                                  const std::array<double, 3> &weft, const unsigned int directions,
+                                  const std::function<double(double)> &limit)
+  {
+    AssertThrow(directions >= 1, dealii::ExcMessage("Strain limits: at least one direction per triangle."));
+    std::vector<double> alpha(directions), bound(directions);
+    for (unsigned int j = 0; j < directions; ++j)
+      {
+        alpha[j] = -pi / 2 + (j + 0.5) * pi / directions;
+        bound[j] = limit(alpha[j]);
+        AssertThrow(std::isfinite(bound[j]),
+                    dealii::ExcMessage("Strain limits: the limit at alpha = " + std::to_string(alpha[j]) +
+                                       " rad is not finite."));
+        AssertThrow(bound[j] >= 1,
+                    dealii::ExcMessage(
+                        "Strain limits: the stretch limit " + std::to_string(bound[j]) +
+                        " at alpha = " + std::to_string(alpha[j]) +
+                        " rad is below 1. That bounds compression, |F d| >= b, whose feasible set is not "
+                        "convex (the outside of an ellipsoid), so the projection would lose its unique "
+                        "solution. Limits must be stretches b >= 1."));
+      }
+    StrainLimits limits;
+    for (const auto &cell : mesh.cells)
+      {
+        // Material coordinates of the rest triangle and D_m = [X_1 - X_0, X_2 - X_0].
+        double X[3][2];
+        for (int k = 0; k < 3; ++k)
+          {
+            const auto &p = mesh.vertices[cell[k]];
+            X[k][0]       = p[0] * warp[0] + p[1] * warp[1] + p[2] * warp[2];
+            X[k][1]       = p[0] * weft[0] + p[1] * weft[1] + p[2] * weft[2];
+          }
+        Eigen::Matrix2d Dm;
+        Dm << X[1][0] - X[0][0], X[2][0] - X[0][0], X[1][1] - X[0][1], X[2][1] - X[0][1];
+        AssertThrow(std::abs(Dm.determinant()) > 1e-14 * Dm.squaredNorm(),
+                    dealii::ExcMessage("Strain limits: a degenerate rest triangle in the material frame."));
+        const Eigen::Matrix2d Dinv = Dm.inverse();
+        for (unsigned int j = 0; j < directions; ++j)
+          {
+            const Eigen::Vector2d c = Dinv * Eigen::Vector2d(std::cos(alpha[j]), std::sin(alpha[j]));
+            limits.vertices.push_back({{cell[0], cell[1], cell[2]}});
+            limits.coefficients.push_back({{-(c[0] + c[1]), c[0], c[1]}});
+            limits.bound.push_back(bound[j]);
+            limits.angle.push_back(alpha[j]);
+          }
+      }
+    return limits;
+  }
+
+  namespace
+  {
+    Eigen::Vector3d image(const StrainLimits &limits, std::size_t i, const Eigen::VectorXd &x)
+    {
+      Eigen::Vector3d d = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k)
+        d += limits.coefficients[i][k] * x.segment<3>(3 * limits.vertices[i][k]);
+      return d;
+    }
+  } // namespace
+
+  double max_violation(const StrainLimits &limits, const Eigen::VectorXd &x)
+  {
+    double worst = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < limits.size(); ++i)
+      worst = std::max(worst, (image(limits, i, x).norm() - limits.bound[i]) / limits.bound[i]);
+    return worst;
+  }
+
+  StrainLimitProjector::StrainLimitProjector(const StrainLimits &limits, const Eigen::VectorXd &mass,
+                                             const std::map<std::size_t, double> &fixed,
+                                             ConicSettings                        settings)
+      : limits(limits)
+      , mass(mass)
+      , fixed(fixed)
+      , settings(settings)
+  {
+    free_index.assign(std::size_t(mass.size()), -1);
+    for (std::size_t i = 0; i < std::size_t(mass.size()); ++i)
+      if (!fixed.count(i))
+        {
+          AssertThrow(mass[Eigen::Index(i)] > 0,
+                      dealii::ExcMessage("Projection: a free unknown without mass."));
+          free_index[i] = long(free_dofs.size());
+          free_dofs.push_back(i);
+        }
+    mass_scale = 0;
+    for (const std::size_t i : free_dofs)
+      mass_scale += mass[Eigen::Index(i)];
+    mass_scale = free_dofs.empty() ? 1.0 : mass_scale / double(free_dofs.size());
+  }
+
+  Eigen::VectorXd StrainLimitProjector::full(const Eigen::VectorXd &free_values) const
+  {
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(mass.size());
+    for (std::size_t k = 0; k < free_dofs.size(); ++k)
+      x[Eigen::Index(free_dofs[k])] = free_values[Eigen::Index(k)];
+    for (const auto &f : fixed)
+      x[Eigen::Index(f.first)] = f.second;
+    return x;
+  }
+
+  ConicQP StrainLimitProjector::problem(const Eigen::VectorXd &x_hat) const
+  {
+    const Eigen::Index n = Eigen::Index(free_dofs.size());
+    ConicQP            p;
+    // Objective scaled by the mean mass (keeps the tolerances meaningful for light sheets).
+    p.P_diagonal.resize(n), p.q.resize(n);
+    for (Eigen::Index k = 0; k < n; ++k)
+      {
+        p.P_diagonal[k] = mass[Eigen::Index(free_dofs[std::size_t(k)])] / mass_scale;
+        p.q[k]          = -p.P_diagonal[k] * x_hat[Eigen::Index(free_dofs[std::size_t(k)])];
+      }
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(limits.size() * 9);
+    p.h = Eigen::VectorXd::Zero(Eigen::Index(4 * limits.size()));
+    p.cones.assign(limits.size(), 4);
+    for (std::size_t i = 0; i < limits.size(); ++i)
+      {
+        // s = (b, A x) = h - G x: h = (b, A_fixed x_fixed), G = -(0, A_free).
+        p.h[Eigen::Index(4 * i)] = limits.bound[i];
+        for (int k = 0; k < 3; ++k)
+          for (int d = 0; d < 3; ++d)
+            {
+              const std::size_t dof = 3 * limits.vertices[i][k] + std::size_t(d);
+              const double      c   = limits.coefficients[i][k];
+              if (free_index[dof] >= 0)
+                t.emplace_back(Eigen::Index(4 * i + 1 + std::size_t(d)), free_index[dof], -c);
+              else
+                p.h[Eigen::Index(4 * i + 1 + std::size_t(d))] += c * fixed.at(dof);
+            }
+      }
+    p.G.resize(Eigen::Index(4 * limits.size()), n);
+    p.G.setFromTriplets(t.begin(), t.end());
+    p.G.makeCompressed();
+    return p;
+  }
+
+  ProjectionResult StrainLimitProjector::project(const Eigen::VectorXd &x_hat, Eigen::VectorXd &x)
+  {
+    const auto        started = std::chrono::steady_clock::now();
+    const ConicQP     p       = problem(x_hat);
+    const ConicResult r       = cone_solver.solve(p, settings);
+    ProjectionResult  result;
+    result.status     = r.status;
+    result.iterations = r.iterations;
+    if (r.status == ConicStatus::solved || r.status == ConicStatus::almost_solved)
+      {
+        x                = full(r.x);
+        result.violation = max_violation(limits, x);
+        double d2        = 0;
+        for (const std::size_t i : free_dofs)
+          d2 += mass[Eigen::Index(i)] * std::pow(x[Eigen::Index(i)] - x_hat[Eigen::Index(i)], 2);
+        result.distance = std::sqrt(d2);
+      }
+    result.seconds = since(started);
+    return result;
+  }
+
+  GaussSeidelResult gauss_seidel_projection(const StrainLimits &limits, const Eigen::VectorXd &mass,
+                                            const std::map<std::size_t, double> &fixed, Eigen::VectorXd &x,
+                                            const double tolerance, const unsigned int max_sweeps,
+                                            const double max_seconds)
+  {
+    const auto        started = std::chrono::steady_clock::now();
+    GaussSeidelResult result;
+    // Inverse vertex masses, 0 for pinned vertices.
+    std::vector<double> inverse_mass(std::size_t(mass.size()) / 3);
+    for (std::size_t v = 0; v < inverse_mass.size(); ++v)
+      inverse_mass[v] = fixed.count(3 * v) ? 0.0 : 1.0 / mass[Eigen::Index(3 * v)];
+    for (result.sweeps = 0; result.sweeps < max_sweeps; ++result.sweeps)
+      {
+        double worst = -std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < limits.size(); ++i)
+          {
+            const Eigen::Vector3d y = image(limits, i, x);
+            const double          r = y.norm(), b = limits.bound[i];
+            worst = std::max(worst, (r - b) / b);
+            if (r <= b)
+              continue;
+            // min 1/2 |dx|_M^2 s.t. A (x + dx) = y b / r: dx = M^-1 A^T mu, A M^-1 A^T = k I.
+            double k = 0;
+            for (int j = 0; j < 3; ++j)
+              k += std::pow(limits.coefficients[i][j], 2) * inverse_mass[limits.vertices[i][j]];
+            if (k <= 0)
+              continue; // every vertex pinned
+            const Eigen::Vector3d mu = -(1 - b / r) * y / k;
+            for (int j = 0; j < 3; ++j)
+              x.segment<3>(3 * limits.vertices[i][j]) +=
+                  inverse_mass[limits.vertices[i][j]] * limits.coefficients[i][j] * mu;
+          }
+        result.violation = worst;
+        if (worst <= tolerance)
+          {
+            result.converged = true;
+            break;
+          }
+        if (since(started) > max_seconds)
+          break;
+      }
+    result.violation = max_violation(limits, x);
+    result.converged = result.violation <= tolerance;
+    result.seconds   = since(started);
+    return result;
+  }
+} // namespace nlmech
