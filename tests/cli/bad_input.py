@@ -28,6 +28,11 @@ def hbm(entries):
     return f"set Scene type = harmonic-balance\nsubsection Harmonic balance\n{entries}end\n"
 
 
+def sheet(entries):
+    return ("set Scene type = biphasic-sheet\nsubsection Sheet\n  set Resolution = 4\nend\n"
+            "subsection Time stepping\n  set End time = 0.05\n  set Schemes = SAP\nend\n" + entries)
+
+
 def cases(source):
     data = os.path.join(source, "tests", "data")
     return {
@@ -57,6 +62,12 @@ def cases(source):
                                         "  set Driven joints = 0\nend\n", "A link joins a missing joint"),
         "hbm-rods-without-polylines": (hbm("") + "subsection Oscillator\n  set Model = rods\nend\n",
                                        "Rods: Polylines are needed"),
+        "sheet-compression-limit": (sheet("subsection Strain limits\n  set Limit = 1 - 0.1 * cos(alpha)\nend\n"),
+                                    "bounds compression"),
+        "sheet-infeasible-pins": (sheet("subsection Sheet\n  set Pin offsets = 0, 0, 0; 0.2, 0, 0\nend\n"),
+                                  "the pins are farther apart than the limits allow"),
+        "sheet-bad-limit-formula": (sheet("subsection Strain limits\n  set Limit = 1 + sin(\nend\n"),
+                                    "cannot parse the limit formula"),
         "multi-target-topology": (multi_target(f"  set Target mesh = {os.path.join(data, 'inverted_tet.msh')}\n"),
                                   "not the main target's"),
         "multi-target-moved-support": (multi_target("  set Target displacement = 0.001; 0; 0\n"),

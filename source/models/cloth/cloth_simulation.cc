@@ -152,22 +152,29 @@ namespace nlmech
 
   ClothSimulation::ClothSimulation(const RawSimplexMesh<3> &mesh, const ShellMaterial &material,
                                    const std::vector<unsigned int> &pinned, const StrainLimits &limits,
-                                   const ClothSettings &settings, ConicSettings cone_settings)
+                                   const ClothSettings &settings, ConicSettings cone_settings,
+                                   const std::vector<std::array<double, 3>> &pin_offsets)
       : model(make_shell_model(mesh, material))
       , limits(limits)
       , settings(settings)
   {
     AssertThrow(settings.time_step > 0 && std::isfinite(settings.time_step),
                 dealii::ExcMessage("Cloth: the time step must be positive."));
-    for (const unsigned int p : pinned)
+    AssertThrow(pin_offsets.empty() || pin_offsets.size() == pinned.size(),
+                dealii::ExcMessage("Cloth: give one offset per pinned vertex, or none."));
+    x = model.rest_positions;
+    for (std::size_t k = 0; k < pinned.size(); ++k)
       {
+        const unsigned int p = pinned[k];
         AssertThrow(p < mesh.vertices.size(), dealii::ExcMessage("Cloth: a pinned vertex does not exist."));
         for (unsigned int d = 0; d < 3; ++d)
-          model.model.fix(3 * p + d, model.rest_positions[3 * p + d]);
+          {
+            x[3 * p + d] += pin_offsets.empty() ? 0.0 : pin_offsets[k][d];
+            model.model.fix(3 * p + d, x[3 * p + d]);
+          }
       }
     if (settings.sphere || settings.ground)
       model.model.add_term(std::make_shared<ContactTerm>(settings));
-    x = model.rest_positions;
     v = Eigen::VectorXd::Zero(x.size());
     force.resize(x.size());
     for (Eigen::Index i = 0; i < x.size(); ++i)

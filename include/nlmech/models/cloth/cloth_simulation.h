@@ -66,10 +66,12 @@ namespace nlmech
   {
   public:
     /// `limits` may be empty (no projection); the schemes with projection need it non-empty.
-    /// `pinned` vertices stay at their rest positions.
+    /// `pinned` vertices stay at their rest positions moved by `pin_offsets` (one per pinned vertex,
+    /// or none): grips that stretch the sheet from the start.
     ClothSimulation(const RawSimplexMesh<3> &mesh, const ShellMaterial &material,
                     const std::vector<unsigned int> &pinned, const StrainLimits &limits,
-                    const ClothSettings &settings, ConicSettings cone_settings = {});
+                    const ClothSettings &settings, ConicSettings cone_settings = {},
+                    const std::vector<std::array<double, 3>> &pin_offsets = {});
     ~ClothSimulation();
 
     /// One time step. Throws a clear error when Newton diverges, the state becomes non-finite or a
