@@ -2,8 +2,11 @@
 
 #include <nlmech/models/cloth/strain_limits.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace nlmech
@@ -113,11 +116,12 @@ namespace nlmech
 
   StrainLimitProjector::StrainLimitProjector(const StrainLimits &limits, const Eigen::VectorXd &mass,
                                              const std::map<std::size_t, double> &fixed,
-                                             ConicSettings                        settings)
+                                             ConicSettings settings, const double screening)
       : limits(limits)
       , mass(mass)
       , fixed(fixed)
       , settings(settings)
+      , screening(screening)
   {
     free_index.assign(std::size_t(mass.size()), -1);
     for (std::size_t i = 0; i < std::size_t(mass.size()); ++i)
@@ -146,35 +150,66 @@ namespace nlmech
 
   ConicQP StrainLimitProjector::problem(const Eigen::VectorXd &x_hat) const
   {
-    const Eigen::Index n = Eigen::Index(free_dofs.size());
+    std::vector<std::size_t> unknowns;
+    return problem(x_hat, std::vector<char>(limits.size(), 1), unknowns);
+  }
+
+  ConicQP StrainLimitProjector::problem(const Eigen::VectorXd &x_hat, const std::vector<char> &include,
+                                        std::vector<std::size_t> &unknowns) const
+  {
+    // The free unknowns the included limits touch, numbered in order.
+    std::vector<long> local(std::size_t(mass.size()), -1);
+    unknowns.clear();
+    if (std::size_t(std::count(include.begin(), include.end(), 1)) == limits.size())
+      unknowns = free_dofs;
+    else
+      {
+        std::vector<char> touched(std::size_t(mass.size()), 0);
+        for (std::size_t i = 0; i < limits.size(); ++i)
+          if (include[i])
+            for (int k = 0; k < 3; ++k)
+              for (int d = 0; d < 3; ++d)
+                touched[3 * limits.vertices[i][k] + std::size_t(d)] = 1;
+        for (const std::size_t i : free_dofs)
+          if (touched[i])
+            unknowns.push_back(i);
+      }
+    for (std::size_t k = 0; k < unknowns.size(); ++k)
+      local[unknowns[k]] = long(k);
+    const Eigen::Index n = Eigen::Index(unknowns.size());
     ConicQP            p;
     // Objective scaled by the mean mass (keeps the tolerances meaningful for light sheets).
     p.P_diagonal.resize(n), p.q.resize(n);
     for (Eigen::Index k = 0; k < n; ++k)
       {
-        p.P_diagonal[k] = mass[Eigen::Index(free_dofs[std::size_t(k)])] / mass_scale;
-        p.q[k]          = -p.P_diagonal[k] * x_hat[Eigen::Index(free_dofs[std::size_t(k)])];
+        p.P_diagonal[k] = mass[Eigen::Index(unknowns[std::size_t(k)])] / mass_scale;
+        p.q[k]          = -p.P_diagonal[k] * x_hat[Eigen::Index(unknowns[std::size_t(k)])];
       }
+    const std::size_t                   m = std::size_t(std::count(include.begin(), include.end(), 1));
     std::vector<Eigen::Triplet<double>> t;
-    t.reserve(limits.size() * 9);
-    p.h = Eigen::VectorXd::Zero(Eigen::Index(4 * limits.size()));
-    p.cones.assign(limits.size(), 4);
+    t.reserve(m * 9);
+    p.h = Eigen::VectorXd::Zero(Eigen::Index(4 * m));
+    p.cones.assign(m, 4);
+    std::size_t row = 0;
     for (std::size_t i = 0; i < limits.size(); ++i)
       {
+        if (!include[i])
+          continue;
         // s = (b, A x) = h - G x: h = (b, A_fixed x_fixed), G = -(0, A_free).
-        p.h[Eigen::Index(4 * i)] = limits.bound[i];
+        p.h[Eigen::Index(row)] = limits.bound[i];
         for (int k = 0; k < 3; ++k)
           for (int d = 0; d < 3; ++d)
             {
               const std::size_t dof = 3 * limits.vertices[i][k] + std::size_t(d);
               const double      c   = limits.coefficients[i][k];
-              if (free_index[dof] >= 0)
-                t.emplace_back(Eigen::Index(4 * i + 1 + std::size_t(d)), free_index[dof], -c);
+              if (local[dof] >= 0)
+                t.emplace_back(Eigen::Index(row + 1 + std::size_t(d)), local[dof], -c);
               else
-                p.h[Eigen::Index(4 * i + 1 + std::size_t(d))] += c * fixed.at(dof);
+                p.h[Eigen::Index(row + 1 + std::size_t(d))] += c * fixed.at(dof);
             }
+        row += 4;
       }
-    p.G.resize(Eigen::Index(4 * limits.size()), n);
+    p.G.resize(Eigen::Index(4 * m), n);
     p.G.setFromTriplets(t.begin(), t.end());
     p.G.makeCompressed();
     return p;
@@ -182,15 +217,59 @@ namespace nlmech
 
   ProjectionResult StrainLimitProjector::project(const Eigen::VectorXd &x_hat, Eigen::VectorXd &x)
   {
-    const auto        started = std::chrono::steady_clock::now();
-    const ConicQP     p       = problem(x_hat);
-    const ConicResult r       = cone_solver.solve(p, settings);
-    ProjectionResult  result;
-    result.status     = r.status;
-    result.iterations = r.iterations;
-    if (r.status == ConicStatus::solved || r.status == ConicStatus::almost_solved)
+    const auto       started = std::chrono::steady_clock::now();
+    ProjectionResult result;
+    x = x_hat;
+    for (const auto &f : fixed)
+      x[Eigen::Index(f.first)] = f.second;
+    // The limits in the first cone problem.
+    std::vector<char> include(limits.size(), 0);
+    if (previously_active.size() != limits.size())
+      previously_active.assign(limits.size(), 0);
+    for (std::size_t i = 0; i < limits.size(); ++i)
+      include[i] =
+          screening <= 0 || previously_active[i] || image(limits, i, x).norm() >= screening * limits.bound[i];
+    if (2 * std::size_t(std::count(include.begin(), include.end(), 1)) > limits.size())
+      std::fill(include.begin(), include.end(), 1);
+    result.status = ConicStatus::solved;
+    for (unsigned int round = 0; round < 50; ++round)
       {
-        x                = full(r.x);
+        if (std::count(include.begin(), include.end(), 1) > 0)
+          {
+            std::vector<std::size_t> unknowns;
+            const ConicQP            p = problem(x_hat, include, unknowns);
+            const ConicResult        r = cone_solver.solve(p, settings);
+            if (std::getenv("NLMECH_PROJECTION_DEBUG"))
+              std::fprintf(stderr, "projection round %u: %zu limits, %zu unknowns, %u iterations, %.3f s\n",
+                           round, p.cones.size(), unknowns.size(), r.iterations, r.seconds);
+            ++result.rounds;
+            result.iterations += r.iterations;
+            result.status = r.status;
+            result.cones  = p.cones.size();
+            if (r.status != ConicStatus::solved && r.status != ConicStatus::almost_solved)
+              break;
+            x = x_hat;
+            for (const auto &f : fixed)
+              x[Eigen::Index(f.first)] = f.second;
+            for (std::size_t k = 0; k < unknowns.size(); ++k)
+              x[Eigen::Index(unknowns[k])] = r.x[Eigen::Index(k)];
+          }
+        // Check every limit left out; add the violated and nearly active ones (with the same
+        // margin as the first screening, so that few rounds follow). Once most limits are in, all
+        // go in: the full problem's pattern is analysed once and reused from then on.
+        std::size_t added = 0;
+        for (std::size_t i = 0; i < limits.size(); ++i)
+          if (!include[i] && image(limits, i, x).norm() >= screening * limits.bound[i])
+            include[i] = 1, ++added;
+        if (added == 0)
+          break;
+        if (2 * std::size_t(std::count(include.begin(), include.end(), 1)) > limits.size())
+          std::fill(include.begin(), include.end(), 1);
+      }
+    for (std::size_t i = 0; i < limits.size(); ++i)
+      previously_active[i] = image(limits, i, x).norm() >= (1 - 1e-3) * limits.bound[i];
+    if (result.status == ConicStatus::solved || result.status == ConicStatus::almost_solved)
+      {
         result.violation = max_violation(limits, x);
         double d2        = 0;
         for (const std::size_t i : free_dofs)

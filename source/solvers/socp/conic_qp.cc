@@ -24,24 +24,15 @@ namespace nlmech
     {
       return u[0] * u[0] - u.tail(u.size() - 1).squaredNorm();
     }
-    /// Jordan product of the second-order cone: (u^T v, u_0 v_1 + v_0 u_1).
-    Eigen::VectorXd jordan(const Eigen::Ref<const Eigen::VectorXd> &u,
-                           const Eigen::Ref<const Eigen::VectorXd> &v)
+    /// Solves lambda o d = r for d (lambda in the interior), into d.
+    void jordan_solve(const double *l, const double *r, const Eigen::Index size, double *d)
     {
-      Eigen::VectorXd r(u.size());
-      r[0]                 = u.dot(v);
-      r.tail(u.size() - 1) = u[0] * v.tail(v.size() - 1) + v[0] * u.tail(u.size() - 1);
-      return r;
-    }
-    /// Solves lambda o d = r for d (lambda in the interior).
-    Eigen::VectorXd jordan_solve(const Eigen::Ref<const Eigen::VectorXd> &l,
-                                 const Eigen::Ref<const Eigen::VectorXd> &r)
-    {
-      const Eigen::Index k = l.size() - 1;
-      Eigen::VectorXd    d(l.size());
-      d[0]      = (l[0] * r[0] - l.tail(k).dot(r.tail(k))) / jnorm2(l);
-      d.tail(k) = (r.tail(k) - d[0] * l.tail(k)) / l[0];
-      return d;
+      double lr = 0, ll = 0;
+      for (Eigen::Index k = 1; k < size; ++k)
+        lr += l[k] * r[k], ll += l[k] * l[k];
+      d[0] = (l[0] * r[0] - lr) / (l[0] * l[0] - ll);
+      for (Eigen::Index k = 1; k < size; ++k)
+        d[k] = (r[k] - d[0] * l[k]) / l[0];
     }
     /// Largest alpha >= 0 with u + alpha du in the cone (u inside); infinity if unbounded.
     double step_to_boundary(const Eigen::Ref<const Eigen::VectorXd> &u,
@@ -60,6 +51,32 @@ namespace nlmech
     {
       return u[0] - u.tail(u.size() - 1).norm();
     }
+
+    /// Applies the Nesterov-Todd scaling of one cone, W = eta Wb with the hyperbolic Householder
+    /// matrix Wb = [[w_0, w_1^T], [w_1, I + w_1 w_1^T / (1 + w_0)]] (w^T J w = 1), or its inverse
+    /// W^-1 = J Wb J / eta, to u (length d) into out (may be u itself). No temporaries.
+    void apply_scaling(const double *w, const double eta, const Eigen::Index d, const double *u, double *out,
+                       const bool inverse)
+    {
+      double dot = 0;
+      for (Eigen::Index k = 1; k < d; ++k)
+        dot += w[k] * u[k];
+      const double u0 = u[0];
+      if (!inverse)
+        {
+          const double c = u0 + dot / (1 + w[0]);
+          out[0]         = eta * (w[0] * u0 + dot);
+          for (Eigen::Index k = 1; k < d; ++k)
+            out[k] = eta * (u[k] + c * w[k]);
+        }
+      else
+        {
+          const double c = -u0 + dot / (1 + w[0]);
+          out[0]         = (w[0] * u0 - dot) / eta;
+          for (Eigen::Index k = 1; k < d; ++k)
+            out[k] = (u[k] + c * w[k]) / eta;
+        }
+    }
   } // namespace
 
   std::string to_string(const ConicStatus status)
@@ -77,6 +94,11 @@ namespace nlmech
   ConicQPSolver::ConicQPSolver()
   {
     cholesky.cholmod().print = 0;
+    if (const char *o = std::getenv("NLMECH_SOCP_ORDERING"))
+      {
+        cholesky.cholmod().nmethods           = 1;
+        cholesky.cholmod().method[0].ordering = std::atoi(o);
+      }
   }
 
   void ConicQPSolver::analyse(const ConicQP &problem)
@@ -126,19 +148,40 @@ namespace nlmech
     pattern_inner.assign(problem.G.innerIndexPtr(), problem.G.innerIndexPtr() + problem.G.nonZeros());
   }
 
-  void ConicQPSolver::assemble(const ConicQP &problem, const std::vector<Eigen::MatrixXd> &Winv2)
+  void ConicQPSolver::assemble(const ConicQP &problem, const Eigen::VectorXd &w,
+                               const std::vector<double> &eta)
   {
     std::fill(normal.valuePtr(), normal.valuePtr() + normal.nonZeros(), 0.0);
     const double regularisation = 1e-13 * std::max(1.0, problem.P_diagonal.lpNorm<Eigen::Infinity>());
     for (std::size_t j = 0; j < diagonal_slot.size(); ++j)
       normal.valuePtr()[diagonal_slot[j]] += problem.P_diagonal[Eigen::Index(j)] + regularisation;
+    Eigen::VectorXd a;
     for (std::size_t i = 0; i < cone_columns.size(); ++i)
       {
-        const Eigen::MatrixXd local = cone_G[i].transpose() * Winv2[i] * cone_G[i];
-        std::size_t           k     = 0;
-        for (Eigen::Index a = 0; a < local.rows(); ++a)
-          for (Eigen::Index b = 0; b <= a; ++b, ++k)
-            normal.valuePtr()[cone_slots[i][k]] += local(a, b);
+        const Eigen::MatrixXd &G = cone_G[i];
+        const Eigen::Index     c = G.cols(), d = G.rows();
+        std::size_t            k = 0;
+        if (w.size() == 0) // identity scaling: G^T G
+          {
+            for (Eigen::Index p = 0; p < c; ++p)
+              for (Eigen::Index q = 0; q <= p; ++q, ++k)
+                normal.valuePtr()[cone_slots[i][k]] += G.col(p).dot(G.col(q));
+            continue;
+          }
+        // G^T W^-2 G = (2 a a^T - G^T J G) / eta^2 with a = G^T J w.
+        a.resize(c);
+        const double *wi = w.data() + offset[i];
+        for (Eigen::Index p = 0; p < c; ++p)
+          {
+            double v = G(0, p) * wi[0];
+            for (Eigen::Index r = 1; r < d; ++r)
+              v -= G(r, p) * wi[r];
+            a[p] = v;
+          }
+        const double scale = 1 / (eta[i] * eta[i]);
+        for (Eigen::Index p = 0; p < c; ++p)
+          for (Eigen::Index q = 0; q <= p; ++q, ++k)
+            normal.valuePtr()[cone_slots[i][k]] += scale * (2 * a[p] * a[q] - cone_GJG[i](p, q));
       }
   }
 
@@ -182,9 +225,20 @@ namespace nlmech
                   it.value();
         }
     }
-    std::vector<Eigen::Index> offset(m + 1, 0);
+    offset.assign(m + 1, 0);
     for (std::size_t i = 0; i < m; ++i)
       offset[i + 1] = offset[i] + problem.cones[i];
+    cone_GJG.resize(m);
+    for (std::size_t i = 0; i < m; ++i)
+      {
+        // G^T J G = G_0^T G_0 - G_1^T G_1 (row 0 against the rest).
+        const Eigen::MatrixXd &G = cone_G[i];
+        cone_GJG[i]              = G.row(0).transpose() * G.row(0) -
+                      G.bottomRows(G.rows() - 1).transpose() * G.bottomRows(G.rows() - 1);
+      }
+    Eigen::Index max_dimension = 0;
+    for (const unsigned int d : problem.cones)
+      max_dimension = std::max<Eigen::Index>(max_dimension, d);
     auto block  = [&](Eigen::VectorXd &v, std::size_t i) { return v.segment(offset[i], problem.cones[i]); };
     auto cblock = [&](const Eigen::VectorXd &v, std::size_t i) {
       return v.segment(offset[i], problem.cones[i]);
@@ -207,10 +261,9 @@ namespace nlmech
     };
 
     // Starting point: (P + G^T G) x = -q + G^T h, s = h - G x, z = -s, shifted into the cones.
-    std::vector<Eigen::MatrixXd> W(m), Winv(m), Winv2(m);
-    for (std::size_t i = 0; i < m; ++i)
-      Winv2[i] = Eigen::MatrixXd::Identity(problem.cones[i], problem.cones[i]);
-    assemble(problem, Winv2);
+    Eigen::VectorXd     w(rows);   // NT scaling points w of every cone (w^T J w = 1)
+    std::vector<double> eta(m, 1); // and their factors
+    assemble(problem, Eigen::VectorXd(), eta);
     if (!factorize())
       {
         result.status  = ConicStatus::numerical_error;
@@ -246,8 +299,10 @@ namespace nlmech
         result.gap                      = std::abs(gap) / std::max(1.0, std::abs(objective));
         result.objective                = objective;
         if (std::getenv("NLMECH_SOCP_DEBUG"))
-          std::fprintf(stderr, "socp it %2u pres %.3e dres %.3e gap %.3e obj %.10g\n", result.iterations,
-                       result.primal_residual, result.dual_residual, result.gap, objective);
+          std::fprintf(stderr,
+                       "socp it %2u pres %.3e dres %.3e gap %.3e obj %.10g (%.3f s, %.3f s factorising)\n",
+                       result.iterations, result.primal_residual, result.dual_residual, result.gap, objective,
+                       since(started), result.factorization_seconds);
         if (!(x.allFinite() && s.allFinite() && z.allFinite()) || !std::isfinite(result.gap))
           {
             // Back to the last finite iterate and its figures (the loose tolerances may hold).
@@ -277,51 +332,54 @@ namespace nlmech
         // Nesterov-Todd scaling per cone: W z = W^-1 s = lambda.
         for (std::size_t i = 0; i < m; ++i)
           {
-            const auto         si = cblock(s, i), zi = cblock(z, i);
-            const Eigen::Index d  = si.size();
-            const double       ss = std::sqrt(jnorm2(si)), zz = std::sqrt(jnorm2(zi));
-            Eigen::VectorXd    sb = si / ss, zb = zi / zz;
-            const double       gamma = std::sqrt(0.5 * (1 + zb.dot(sb)));
-            Eigen::VectorXd    Jz    = -zb;
-            Jz[0]                    = zb[0];
-            const Eigen::VectorXd w  = (sb + Jz) / (2 * gamma);
-            // W = eta [[w_0, w_1^T], [w_1, I + w_1 w_1^T / (1 + w_0)]] (a hyperbolic Householder
-            // form; W^2 = eta^2 (2 w w^T - J)), W^-1 = J W J / eta^2.
-            const double    eta = std::sqrt(ss / zz);
-            Eigen::MatrixXd Wb(d, d);
-            Wb(0, 0)                           = w[0];
-            Wb.block(0, 1, 1, d - 1)           = w.tail(d - 1).transpose();
-            Wb.block(1, 0, d - 1, 1)           = w.tail(d - 1);
-            Wb.bottomRightCorner(d - 1, d - 1) = Eigen::MatrixXd::Identity(d - 1, d - 1) +
-                                                 w.tail(d - 1) * w.tail(d - 1).transpose() / (1 + w[0]);
-            W[i]    = eta * Wb;
-            Winv[i] = Wb / eta;
-            Winv[i].block(0, 1, 1, d - 1) *= -1;
-            Winv[i].block(1, 0, d - 1, 1) *= -1;
-            Winv2[i]         = Winv[i] * Winv[i];
-            block(lambda, i) = W[i] * zi;
+            const Eigen::Index d  = problem.cones[i];
+            const double      *si = s.data() + offset[i], *zi = z.data() + offset[i];
+            double            *wi = w.data() + offset[i];
+            const double       ss = std::sqrt(jnorm2(cblock(s, i))), zz = std::sqrt(jnorm2(cblock(z, i)));
+            double             sz = si[0] * zi[0] / (ss * zz);
+            for (Eigen::Index k = 1; k < d; ++k)
+              sz += si[k] * zi[k] / (ss * zz);
+            const double gamma = std::sqrt(0.5 * (1 + sz));
+            wi[0]              = (si[0] / ss + zi[0] / zz) / (2 * gamma);
+            for (Eigen::Index k = 1; k < d; ++k)
+              wi[k] = (si[k] / ss - zi[k] / zz) / (2 * gamma);
+            eta[i] = std::sqrt(ss / zz);
+            apply_scaling(wi, eta[i], d, zi, lambda.data() + offset[i], false);
           }
-        assemble(problem, Winv2);
+        assemble(problem, w, eta);
         if (!factorize())
           {
             status = ConicStatus::numerical_error;
             break;
           }
         // Newton step for a right-hand side d of the linearised centrality lambda o (W^-1 ds + W dz) = ...
+        auto W = [&](std::size_t i, const double *u, double *out, bool inverse) {
+          apply_scaling(w.data() + offset[i], eta[i], problem.cones[i], u, out, inverse);
+        };
         auto newton = [&](const Eigen::VectorXd &d, Eigen::VectorXd &dx, Eigen::VectorXd &ds,
                           Eigen::VectorXd &dz) {
+          // t = W^-1 (W^-1 r_z + d); dx from the normal equations; dz = W^-2 G dx + t;
+          // ds = -r_z - G dx (equal to W (d - W dz), exact in the linear equation).
           Eigen::VectorXd t(rows);
           for (std::size_t i = 0; i < m; ++i)
-            block(t, i) = Winv[i] * (Winv[i] * cblock(rz, i) + cblock(d, i));
+            {
+              double *ti = t.data() + offset[i];
+              W(i, rz.data() + offset[i], ti, true);
+              for (Eigen::Index k = 0; k < problem.cones[i]; ++k)
+                ti[k] += d[offset[i] + k];
+              W(i, ti, ti, true);
+            }
           dx                        = normal_solve(-rx - problem.G.transpose() * t);
           const Eigen::VectorXd Gdx = problem.G * dx;
-          dz.resize(rows), ds.resize(rows);
+          dz.resize(rows);
+          ds = -rz - Gdx;
           for (std::size_t i = 0; i < m; ++i)
             {
-              block(dz, i) = Winv2[i] * cblock(Gdx, i) + cblock(t, i);
-              // ds = W (d - W dz) equals this; from the linear equation it keeps G x + s = h to
-              // round-off where W is ill-conditioned (near the cone boundaries at the end).
-              block(ds, i) = -cblock(rz, i) - cblock(Gdx, i);
+              double *dzi = dz.data() + offset[i];
+              W(i, Gdx.data() + offset[i], dzi, true);
+              W(i, dzi, dzi, true);
+              for (Eigen::Index k = 0; k < problem.cones[i]; ++k)
+                dzi[k] += t[offset[i] + k];
             }
         };
         auto max_step = [&](const Eigen::VectorXd &ds, const Eigen::VectorXd &dz) {
@@ -339,13 +397,21 @@ namespace nlmech
         const double mu_a    = (s + alpha_a * ds).dot(z + alpha_a * dz) / double(m);
         const double sigma   = std::clamp(std::pow(std::max(mu_a, 0.0) / mu, 3), 0.0, 1.0);
         // Corrector: lambda o d = sigma mu e - lambda o lambda - (W^-1 ds_a) o (W dz_a).
-        Eigen::VectorXd d(rows);
+        Eigen::VectorXd d(rows), u(max_dimension), v(max_dimension), r(max_dimension);
         for (std::size_t i = 0; i < m; ++i)
           {
-            Eigen::VectorXd r = -jordan(cblock(lambda, i), cblock(lambda, i)) -
-                                jordan(Winv[i] * cblock(ds, i), W[i] * cblock(dz, i));
-            r[0] += sigma * mu;
-            block(d, i) = jordan_solve(cblock(lambda, i), r);
+            const Eigen::Index dim = problem.cones[i];
+            const double      *li  = lambda.data() + offset[i];
+            W(i, ds.data() + offset[i], u.data(), true);
+            W(i, dz.data() + offset[i], v.data(), false);
+            // r = sigma mu e - lambda o lambda - u o v
+            double l2 = 0, uv = 0;
+            for (Eigen::Index k = 0; k < dim; ++k)
+              l2 += li[k] * li[k], uv += u[k] * v[k];
+            r[0] = sigma * mu - l2 - uv;
+            for (Eigen::Index k = 1; k < dim; ++k)
+              r[k] = -2 * li[0] * li[k] - (u[0] * v[k] + v[0] * u[k]);
+            jordan_solve(li, r.data(), dim, d.data() + offset[i]);
           }
         newton(d, dx, ds, dz);
         const double alpha = std::min(1.0, settings.step_fraction * max_step(ds, dz));

@@ -81,9 +81,13 @@ namespace nlmech
 
     const Eigen::VectorXd &positions() const { return x; }
     const Eigen::VectorXd &velocities() const { return v; }
-    Eigen::VectorXd       &positions() { return x; }
-    const ShellModel      &shell() const { return model; }
-    double                 time() const { return t; }
+    /// Replaces the state (for benchmarks that split a step into its parts); clears the history.
+    void set_state(const Eigen::VectorXd &positions, const Eigen::VectorXd &velocities)
+    {
+      x = positions, v = velocities, has_history = false;
+    }
+    const ShellModel &shell() const { return model; }
+    double            time() const { return t; }
     /// The projection alone (for benchmarks): x = P(x_hat).
     ProjectionResult project(const Eigen::VectorXd &x_hat, Eigen::VectorXd &x_out);
     /// An implicit Euler step's candidate from (x0, v0) over dt, without changing the state.

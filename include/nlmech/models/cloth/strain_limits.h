@@ -53,21 +53,36 @@ namespace nlmech
   struct ProjectionResult
   {
     ConicStatus  status     = ConicStatus::numerical_error;
-    unsigned int iterations = 0;
+    unsigned int iterations = 0; // interior-point iterations, summed over the screening rounds
+    unsigned int rounds     = 0; // screening rounds (cone problems solved)
+    std::size_t  cones      = 0; // limits in the last cone problem
     double       seconds = 0, violation = 0, distance = 0; // distance |x - x_hat|_M
   };
 
   /// The SOCP projection with a solver (and its symbolic analysis) kept across calls.
+  ///
+  /// Screening (exact): the cone problem holds only the limits that the candidate comes within
+  /// `screening` of (|A x_hat| >= screening b) or that were active in the previous projection, and
+  /// only the unknowns they touch (the objective is separable: every other unknown stays at
+  /// x_hat). After a solve every limit is checked; any that is violated or within 0.1 % of its bound
+  /// is added and the problem solved again. A point that meets every limit and solves the reduced
+  /// problem solves the full one (the left-out limits have zero multipliers), so the result is the
+  /// projection itself. `screening` = 0 keeps every limit (the full problem, one round).
   class StrainLimitProjector
   {
   public:
     /// `mass` per unknown (3 per vertex); `fixed` unknowns keep their values in every projection.
     StrainLimitProjector(const StrainLimits &limits, const Eigen::VectorXd &mass,
-                         const std::map<std::size_t, double> &fixed, ConicSettings settings = {});
+                         const std::map<std::size_t, double> &fixed, ConicSettings settings = {},
+                         double screening = 0.98);
     /// x = argmin 1/2 |x - x_hat|_M^2 subject to every limit (x_hat's fixed unknowns are ignored).
     ProjectionResult project(const Eigen::VectorXd &x_hat, Eigen::VectorXd &x);
     /// The cone problem of one projection (for comparisons with other solvers).
     ConicQP problem(const Eigen::VectorXd &x_hat) const;
+    /// The cone problem of the limits marked in `include`, on the free unknowns they touch (listed
+    /// in `unknowns`); the others are held at x_hat.
+    ConicQP problem(const Eigen::VectorXd &x_hat, const std::vector<char> &include,
+                    std::vector<std::size_t> &unknowns) const;
     /// Full-length x from the free unknowns.
     Eigen::VectorXd full(const Eigen::VectorXd &free_values) const;
 
@@ -80,7 +95,8 @@ namespace nlmech
     ConicSettings                 settings;
     std::vector<long>             free_index;
     std::vector<std::size_t>      free_dofs;
-    double                        mass_scale = 1;
+    double                        mass_scale = 1, screening = 0.98;
+    std::vector<char>             previously_active;
     ConicQPSolver                 cone_solver;
   };
 

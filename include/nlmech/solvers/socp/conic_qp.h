@@ -76,15 +76,18 @@ namespace nlmech
 
   private:
     void analyse(const ConicQP &problem);
-    /// Normal matrix P + sum_i G_i^T Winv2_i G_i into `normal` (fixed pattern).
-    void assemble(const ConicQP &problem, const std::vector<Eigen::MatrixXd> &Winv2);
+    /// Normal matrix P + sum_i G_i^T W_i^-2 G_i into `normal` (fixed pattern), with
+    /// W_i^-2 = (2 J w w^T J - J) / eta^2 from the scaling (w, eta) of every cone; identity scalings
+    /// (the starting point) when `w` is empty.
+    void assemble(const ConicQP &problem, const Eigen::VectorXd &w, const std::vector<double> &eta);
 
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
     Eigen::SparseMatrix<double>                                            normal;
     // Per cone: the columns of G it touches, G_i densely on them, and where the entries of
     // G_i^T W G_i go in normal.valuePtr() (lower triangle, -1 for the upper).
     std::vector<std::vector<int>>  cone_columns;
-    std::vector<Eigen::MatrixXd>   cone_G;
+    std::vector<Eigen::MatrixXd>   cone_G, cone_GJG; // G_i and G_i^T J G_i on the cone's columns
+    std::vector<Eigen::Index>      offset;           // first row of every cone
     std::vector<std::vector<long>> cone_slots;
     std::vector<long>              diagonal_slot;
     long                           pattern_rows = -1, pattern_cols = -1, pattern_nonzeros = -1;
