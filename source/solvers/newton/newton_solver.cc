@@ -41,7 +41,7 @@ namespace nlmech
     const double                                             g0     = g.norm();
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
     long                                                     analysed_nonzeros = -1;
-    cholesky.cholmod().print = 1; // errors only: "not positive definite" is handled by the shift below
+    cholesky.cholmod().print = 0; // silent: "not positive definite" is expected and handled by the shift
 
     for (result.iterations = 0;; ++result.iterations)
       {
