@@ -37,7 +37,7 @@ def cases(source):
     data = os.path.join(source, "tests", "data")
     return {
         "malformed-prm": (CANTILEVER + "subsection Material\n  sett Young's modulus 3\nend\n", "Line <6>"),
-        "unknown-scene": ("set Scene type = warp-drive\n", "Unknown scene <warp-drive>. Registered scenes: cantilever"),
+        "unknown-scene": ("set Scene type = warp-drive\n", "Unknown scene <warp-drive>. Registered scenes: biphasic-sheet, cantilever"),
         "no-scene": ("subsection Material\nend\n", "does not name a scene"),
         "unknown-parameter": (CANTILEVER + "subsection Material\n  set Colour = red\nend\n",
                               "No entry with name <Colour>"),
