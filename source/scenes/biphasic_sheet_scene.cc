@@ -12,6 +12,7 @@
 #include <nlmech/mesh/vertex_field_output.h>
 #include <nlmech/models/cloth/cloth_simulation.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -68,6 +69,10 @@ namespace nlmech
                           "(alpha from the warp axis x towards the weft axis z), a formula in alpha [rad] "
                           "(e.g. 1.01, or 1/sqrt(cos(alpha)^2/1.02^2 + sin(alpha)^2/1.2^2) for an "
                           "orthotropic ellipse) [-].");
+        prm.declare_entry("Limit samples", "", Patterns::Anything(),
+                          "Instead of the formula: measured samples 'angle:limit; ...' with the angle in "
+                          "degrees from the warp axis (e.g. 0:1.02; 45:1.08; 90:1.2), interpolated "
+                          "linearly and periodically over 180 degrees (d and -d are one direction).");
         prm.declare_entry("Directions", "4", Patterns::Integer(1),
                           "Sampled directions per triangle, alpha_j = -pi/2 + (j + 1/2) pi / n [-].");
         prm.leave_subsection();
@@ -122,6 +127,18 @@ namespace nlmech
         prm.enter_subsection("Strain limits");
         limit_expression = prm.get("Limit");
         directions       = unsigned(prm.get_integer("Directions"));
+        for (const auto &sample : Utilities::split_string_list(prm.get("Limit samples"), ';'))
+          {
+            const auto parts = Utilities::split_string_list(sample, ':');
+            AssertThrow(parts.size() == 2,
+                        ExcMessage("Limit samples: <" + sample + "> is not of the form angle:limit."));
+            const double angle = parse_numbers(parts[0], "Limit samples")[0];
+            const double value = parse_numbers(parts[1], "Limit samples")[0];
+            // The direction's angle in [0, 180) degrees, in radians.
+            limit_samples.emplace_back(std::fmod(std::fmod(angle, 180.0) + 180.0, 180.0) * numbers::PI / 180,
+                                       value);
+          }
+        std::sort(limit_samples.begin(), limit_samples.end());
         prm.leave_subsection();
         prm.enter_subsection("Time stepping");
         for (const auto &name : Utilities::split_string_list(prm.get("Schemes"), ','))
@@ -187,7 +204,23 @@ namespace nlmech
                                    ", " + std::to_string(p[2]) + ") is not on the sheet."));
             pinned.push_back(best);
           }
-        const auto limit  = [&](double alpha) { return limit_function->value(Point<1>(alpha)); };
+        const auto limit = [&](double alpha) {
+          if (limit_samples.empty())
+            return limit_function->value(Point<1>(alpha));
+          // Periodic linear interpolation over pi.
+          const double a = std::fmod(std::fmod(alpha, numbers::PI) + numbers::PI, numbers::PI);
+          const auto   n = limit_samples.size();
+          for (std::size_t k = 0; k < n; ++k)
+            {
+              const auto  &lo = limit_samples[k];
+              const auto  &hi = limit_samples[(k + 1) % n];
+              const double a0 = lo.first, a1 = k + 1 < n ? hi.first : hi.first + numbers::PI;
+              const double aa = a < a0 ? a + numbers::PI : a;
+              if (n == 1 || (aa >= a0 && aa <= a1))
+                return n == 1 ? lo.second : lo.second + (hi.second - lo.second) * (aa - a0) / (a1 - a0);
+            }
+          return limit_samples.front().second;
+        };
         const auto limits = make_strain_limits(mesh, {{1, 0, 0}}, {{0, 0, 1}}, directions, limit);
         context.pcout << "biphasic sheet: " << mesh.vertices.size() << " vertices, " << mesh.cells.size()
                       << " triangles, " << limits.size() << " stretch limits, " << pinned.size()
@@ -306,16 +339,17 @@ namespace nlmech
                     << std::endl;
       }
 
-      double                             size       = 0.5;
-      unsigned int                       resolution = 20, directions = 4, frames = 40;
-      std::vector<std::array<double, 3>> pinned_points, pin_offsets;
-      ShellMaterial                      material;
-      std::string                        limit_expression;
-      std::shared_ptr<FunctionParser<1>> limit_function;
-      std::vector<ClothScheme>           schemes;
-      ClothSettings                      settings;
-      ConicSettings                      cone_settings;
-      double                             end_time = 2;
+      double                                 size       = 0.5;
+      unsigned int                           resolution = 20, directions = 4, frames = 40;
+      std::vector<std::array<double, 3>>     pinned_points, pin_offsets;
+      ShellMaterial                          material;
+      std::string                            limit_expression;
+      std::shared_ptr<FunctionParser<1>>     limit_function;
+      std::vector<std::pair<double, double>> limit_samples; // (angle in [0, pi), limit)
+      std::vector<ClothScheme>               schemes;
+      ClothSettings                          settings;
+      ConicSettings                          cone_settings;
+      double                                 end_time = 2;
     };
   } // namespace
 

@@ -68,6 +68,8 @@ def cases(source):
                                   "the pins are farther apart than the limits allow"),
         "sheet-bad-limit-formula": (sheet("subsection Strain limits\n  set Limit = 1 + sin(\nend\n"),
                                     "cannot parse the limit formula"),
+        "sheet-bad-limit-sample": (sheet("subsection Strain limits\n  set Limit samples = 0:1.02; 90\nend\n"),
+                                   "is not of the form angle:limit"),
         "multi-target-topology": (multi_target(f"  set Target mesh = {os.path.join(data, 'inverted_tet.msh')}\n"),
                                   "not the main target's"),
         "multi-target-moved-support": (multi_target("  set Target displacement = 0.001; 0; 0\n"),
