@@ -11,6 +11,7 @@
 #include <nlmech/base/scene.h>
 #include <nlmech/mesh/vertex_field_output.h>
 #include <nlmech/models/cloth/cloth_simulation.h>
+#include <nlmech/scenes/elastic_statics_parameters.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,26 +24,6 @@ namespace nlmech
 
   namespace
   {
-    std::vector<double> parse_numbers(const std::string &text, const std::string &what)
-    {
-      std::vector<double> values;
-      for (const auto &item : Utilities::split_string_list(text, ','))
-        {
-          try
-            {
-              std::size_t  used = 0;
-              const double v    = std::stod(item, &used);
-              AssertThrow(used == item.size(), ExcMessage(""));
-              values.push_back(v);
-            }
-          catch (...)
-            {
-              AssertThrow(false, ExcMessage(what + ": <" + item + "> is not a number."));
-            }
-        }
-      return values;
-    }
-
     class BiphasicSheetScene : public Scene
     {
     public:
@@ -105,13 +86,13 @@ namespace nlmech
         resolution = unsigned(prm.get_integer("Resolution"));
         for (const auto &point : Utilities::split_string_list(prm.get("Pinned points"), ';'))
           {
-            const auto p = parse_numbers(point, "Pinned points");
+            const auto p = parse_number_list(point, "Pinned points");
             AssertThrow(p.size() == 3, ExcMessage("Pinned points: each point needs three coordinates."));
             pinned_points.push_back({{p[0], p[1], p[2]}});
           }
         for (const auto &offset : Utilities::split_string_list(prm.get("Pin offsets"), ';'))
           {
-            const auto p = parse_numbers(offset, "Pin offsets");
+            const auto p = parse_number_list(offset, "Pin offsets");
             AssertThrow(p.size() == 3, ExcMessage("Pin offsets: each offset needs three coordinates."));
             pin_offsets.push_back({{p[0], p[1], p[2]}});
           }
@@ -130,10 +111,10 @@ namespace nlmech
         for (const auto &sample : Utilities::split_string_list(prm.get("Limit samples"), ';'))
           {
             const auto parts = Utilities::split_string_list(sample, ':');
-            AssertThrow(parts.size() == 2,
+            AssertThrow(parts.size() == 2 && !parts[0].empty() && !parts[1].empty(),
                         ExcMessage("Limit samples: <" + sample + "> is not of the form angle:limit."));
-            const double angle = parse_numbers(parts[0], "Limit samples")[0];
-            const double value = parse_numbers(parts[1], "Limit samples")[0];
+            const double angle = parse_number_list(parts[0], "Limit samples")[0];
+            const double value = parse_number_list(parts[1], "Limit samples")[0];
             // The direction's angle in [0, 180) degrees, in radians.
             limit_samples.emplace_back(std::fmod(std::fmod(angle, 180.0) + 180.0, 180.0) * numbers::PI / 180,
                                        value);
@@ -156,7 +137,7 @@ namespace nlmech
         prm.enter_subsection("Collisions");
         settings.sphere_stiffness = prm.get_double("Sphere stiffness");
         settings.sphere           = settings.sphere_stiffness > 0;
-        const auto c              = parse_numbers(prm.get("Sphere center"), "Sphere center");
+        const auto c              = parse_number_list(prm.get("Sphere center"), "Sphere center");
         AssertThrow(c.size() == 3, ExcMessage("Sphere center needs three coordinates."));
         settings.sphere_center    = {{c[0], c[1], c[2]}};
         settings.sphere_radius    = prm.get_double("Sphere radius");
