@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/parallel.h>
 
 #include <nlmech/solvers/socp/conic_qp.h>
 
@@ -17,6 +18,16 @@ namespace nlmech
     double since(Clock::time_point t0)
     {
       return std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+
+    /// f(begin, end) over [0, m) in chunks on deal.II's threads (serial for small m).
+    template <typename F>
+    void for_chunks(const std::size_t m, const F &f)
+    {
+      if (m < 4096)
+        f(std::size_t(0), m);
+      else
+        dealii::parallel::apply_to_subranges(std::size_t(0), m, f, 2048);
     }
 
     /// u^T J u with J = diag(1, -1, ..., -1).
@@ -105,21 +116,35 @@ namespace nlmech
   {
     const Eigen::Index                                 n = problem.G.cols();
     const Eigen::SparseMatrix<double, Eigen::RowMajor> Gr(problem.G);
-    cone_columns.assign(problem.cones.size(), {});
-    std::vector<Eigen::Triplet<double>> t;
-    Eigen::Index                        row = 0;
+    // Columns of every cone; consecutive cones on the same columns form a group (the limits of
+    // one triangle), whose contributions are summed densely before they go into the matrix.
+    group_begin.assign(1, 0);
+    group_columns.clear();
+    cone_group.assign(problem.cones.size(), 0);
+    std::vector<int> cols;
+    Eigen::Index     row = 0;
     for (std::size_t i = 0; i < problem.cones.size(); ++i)
       {
-        std::vector<int> &cols = cone_columns[i];
+        cols.clear();
         for (unsigned int r = 0; r < problem.cones[i]; ++r, ++row)
           for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(Gr, row); it; ++it)
             cols.push_back(int(it.col()));
         std::sort(cols.begin(), cols.end());
         cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
-        for (std::size_t a = 0; a < cols.size(); ++a)
-          for (std::size_t b = 0; b <= a; ++b)
-            t.emplace_back(cols[a], cols[b], 0.0);
+        if (group_columns.empty() || cols != group_columns.back())
+          {
+            if (!group_columns.empty())
+              group_begin.push_back(i);
+            group_columns.push_back(cols);
+          }
+        cone_group[i] = group_columns.size() - 1;
       }
+    group_begin.push_back(problem.cones.size());
+    std::vector<Eigen::Triplet<double>> t;
+    for (const auto &gc : group_columns)
+      for (std::size_t a = 0; a < gc.size(); ++a)
+        for (std::size_t b = 0; b <= a; ++b)
+          t.emplace_back(gc[a], gc[b], 0.0);
     for (Eigen::Index j = 0; j < n; ++j)
       t.emplace_back(j, j, 0.0);
     normal.resize(n, n);
@@ -130,18 +155,25 @@ namespace nlmech
       const int *end   = normal.innerIndexPtr() + normal.outerIndexPtr()[c + 1];
       return long(std::lower_bound(begin, end, r) - normal.innerIndexPtr());
     };
-    cone_slots.assign(problem.cones.size(), {});
-    for (std::size_t i = 0; i < problem.cones.size(); ++i)
+    group_slots.assign(group_columns.size(), {});
+    for (std::size_t g = 0; g < group_columns.size(); ++g)
       {
-        const auto &cols = cone_columns[i];
-        for (std::size_t a = 0; a < cols.size(); ++a)
+        const auto &gc = group_columns[g];
+        for (std::size_t a = 0; a < gc.size(); ++a)
           for (std::size_t b = 0; b <= a; ++b)
-            cone_slots[i].push_back(slot(cols[a], cols[b]));
+            group_slots[g].push_back(slot(gc[a], gc[b]));
       }
+    group_value_start.assign(group_columns.size() + 1, 0);
+    for (std::size_t g = 0; g < group_columns.size(); ++g)
+      group_value_start[g + 1] = group_value_start[g] + group_slots[g].size();
+    group_values.resize(group_value_start.back());
     diagonal_slot.resize(std::size_t(n));
     for (Eigen::Index j = 0; j < n; ++j)
       diagonal_slot[std::size_t(j)] = slot(int(j), int(j));
     cholesky.analyzePattern(normal);
+    if (std::getenv("NLMECH_SOCP_DEBUG"))
+      std::fprintf(stderr, "socp analysis: n %ld, nnz(A) %ld, nnz(L) %.0f, %.3g flops\n", long(n),
+                   long(normal.nonZeros()), cholesky.cholmod().lnz, cholesky.cholmod().fl);
     ++n_symbolic_analyses;
     pattern_rows = problem.G.rows(), pattern_cols = n, pattern_nonzeros = problem.G.nonZeros();
     pattern_outer.assign(problem.G.outerIndexPtr(), problem.G.outerIndexPtr() + n + 1);
@@ -155,33 +187,48 @@ namespace nlmech
     const double regularisation = 1e-13 * std::max(1.0, problem.P_diagonal.lpNorm<Eigen::Infinity>());
     for (std::size_t j = 0; j < diagonal_slot.size(); ++j)
       normal.valuePtr()[diagonal_slot[j]] += problem.P_diagonal[Eigen::Index(j)] + regularisation;
-    Eigen::VectorXd a;
-    for (std::size_t i = 0; i < cone_columns.size(); ++i)
+    // Per group (in parallel): sum over its cones of B^T B with B = W_i^-1 G_i (W_i symmetric,
+    // so this is G_i^T W_i^-2 G_i), B = G_i for the identity scaling of the starting point; then
+    // the blocks go into the matrix (serially: groups share entries).
+    const std::size_t n_groups = group_columns.size();
+    for_chunks(n_groups, [&](const std::size_t begin, const std::size_t end) {
+      std::vector<double> B;
+      for (std::size_t g = begin; g < end; ++g)
+        {
+          const std::size_t c     = group_columns[g].size();
+          double           *local = group_values.data() + group_value_start[g];
+          std::fill(local, local + c * (c + 1) / 2, 0.0);
+          for (std::size_t i = group_begin[g]; i < group_begin[g + 1]; ++i)
+            {
+              const Eigen::Index d  = problem.cones[i];
+              const double      *Gi = cone_G.data() + cone_G_start[i]; // d x c, column-major
+              B.resize(std::size_t(d) * c);
+              if (w.size() == 0)
+                std::copy(Gi, Gi + d * Eigen::Index(c), B.begin());
+              else
+                for (std::size_t p = 0; p < c; ++p)
+                  apply_scaling(w.data() + offset[i], eta[i], d, Gi + Eigen::Index(p) * d,
+                                B.data() + p * std::size_t(d), true);
+              std::size_t k = 0;
+              for (std::size_t p = 0; p < c; ++p)
+                for (std::size_t q = 0; q <= p; ++q, ++k)
+                  {
+                    const double *bp = B.data() + p * std::size_t(d), *bq = B.data() + q * std::size_t(d);
+                    double        v = 0;
+                    for (Eigen::Index r = 0; r < d; ++r)
+                      v += bp[r] * bq[r];
+                    local[k] += v;
+                  }
+            }
+        }
+    });
+    double *values = normal.valuePtr();
+    for (std::size_t g = 0; g < n_groups; ++g)
       {
-        const Eigen::MatrixXd &G = cone_G[i];
-        const Eigen::Index     c = G.cols(), d = G.rows();
-        std::size_t            k = 0;
-        if (w.size() == 0) // identity scaling: G^T G
-          {
-            for (Eigen::Index p = 0; p < c; ++p)
-              for (Eigen::Index q = 0; q <= p; ++q, ++k)
-                normal.valuePtr()[cone_slots[i][k]] += G.col(p).dot(G.col(q));
-            continue;
-          }
-        // G^T W^-2 G = (2 a a^T - G^T J G) / eta^2 with a = G^T J w.
-        a.resize(c);
-        const double *wi = w.data() + offset[i];
-        for (Eigen::Index p = 0; p < c; ++p)
-          {
-            double v = G(0, p) * wi[0];
-            for (Eigen::Index r = 1; r < d; ++r)
-              v -= G(r, p) * wi[r];
-            a[p] = v;
-          }
-        const double scale = 1 / (eta[i] * eta[i]);
-        for (Eigen::Index p = 0; p < c; ++p)
-          for (Eigen::Index q = 0; q <= p; ++q, ++k)
-            normal.valuePtr()[cone_slots[i][k]] += scale * (2 * a[p] * a[q] - cone_GJG[i](p, q));
+        const double *local = group_values.data() + group_value_start[g];
+        const long   *slots = group_slots[g].data();
+        for (std::size_t k = 0; k < group_slots[g].size(); ++k)
+          values[slots[k]] += local[k];
       }
   }
 
@@ -210,32 +257,29 @@ namespace nlmech
         std::equal(pattern_inner.begin(), pattern_inner.end(), problem.G.innerIndexPtr());
     if (!same_pattern)
       analyse(problem);
-    // Dense per-cone blocks of G on the columns each cone touches.
-    {
-      const Eigen::SparseMatrix<double, Eigen::RowMajor> Gr(problem.G);
-      cone_G.resize(m);
-      Eigen::Index row = 0;
-      for (std::size_t i = 0; i < m; ++i)
-        {
-          const auto &cols = cone_columns[i];
-          cone_G[i].setZero(problem.cones[i], Eigen::Index(cols.size()));
-          for (unsigned int r = 0; r < problem.cones[i]; ++r, ++row)
-            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(Gr, row); it; ++it)
-              cone_G[i](r, std::lower_bound(cols.begin(), cols.end(), int(it.col())) - cols.begin()) =
-                  it.value();
-        }
-    }
     offset.assign(m + 1, 0);
     for (std::size_t i = 0; i < m; ++i)
       offset[i + 1] = offset[i] + problem.cones[i];
-    cone_GJG.resize(m);
-    for (std::size_t i = 0; i < m; ++i)
-      {
-        // G^T J G = G_0^T G_0 - G_1^T G_1 (row 0 against the rest).
-        const Eigen::MatrixXd &G = cone_G[i];
-        cone_GJG[i]              = G.row(0).transpose() * G.row(0) -
-                      G.bottomRows(G.rows() - 1).transpose() * G.bottomRows(G.rows() - 1);
-      }
+    // Dense per-cone blocks of G on the columns of the cone's group (column-major, one array).
+    {
+      const Eigen::SparseMatrix<double, Eigen::RowMajor> Gr(problem.G);
+      cone_G_start.resize(m + 1);
+      cone_G_start[0] = 0;
+      for (std::size_t i = 0; i < m; ++i)
+        cone_G_start[i + 1] = cone_G_start[i] + problem.cones[i] * group_columns[cone_group[i]].size();
+      cone_G.assign(cone_G_start[m], 0.0);
+      Eigen::Index row = 0;
+      for (std::size_t i = 0; i < m; ++i)
+        {
+          const auto &cols = group_columns[cone_group[i]];
+          const auto  d    = Eigen::Index(problem.cones[i]);
+          double     *Gi   = cone_G.data() + cone_G_start[i];
+          for (Eigen::Index r = 0; r < d; ++r, ++row)
+            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(Gr, row); it; ++it)
+              Gi[(std::lower_bound(cols.begin(), cols.end(), int(it.col())) - cols.begin()) * d + r] =
+                  it.value();
+        }
+    }
     Eigen::Index max_dimension = 0;
     for (const unsigned int d : problem.cones)
       max_dimension = std::max<Eigen::Index>(max_dimension, d);
@@ -252,23 +296,38 @@ namespace nlmech
       result.factorization_seconds += since(t0);
       return cholesky.info() == Eigen::Success;
     };
-    // Normal-equation solve with one step of iterative refinement.
-    auto normal_solve = [&](const Eigen::VectorXd &rhs) {
+    // Normal-equation solve with one step of iterative refinement where the residual is not
+    // already at rounding level (late iterations, when W spans many orders of magnitude).
+    double solve_seconds = 0, assemble_seconds = 0;
+    auto   normal_solve = [&](const Eigen::VectorXd &rhs) {
+      const auto t0 = Clock::now();
+      struct Add
+      {
+        double           &a;
+        Clock::time_point t;
+        ~Add() { a += since(t); }
+      } add{solve_seconds, t0};
       Eigen::VectorXd       x = cholesky.solve(rhs);
       const Eigen::VectorXd r = rhs - normal.selfadjointView<Eigen::Lower>() * x;
-      x += cholesky.solve(r);
+      if (r.norm() > 1e-12 * rhs.norm())
+        x += cholesky.solve(r);
       return x;
     };
 
-    // Starting point: (P + G^T G) x = -q + G^T h, s = h - G x, z = -s, shifted into the cones.
+    // Starting point: (P + G^T G) x = -q + G^T h, s = h - G x, z = -s, shifted into the cones
+    // (CVXOPT's); or the centred start near x_start (no factorisation needed).
     Eigen::VectorXd     w(rows);   // NT scaling points w of every cone (w^T J w = 1)
     std::vector<double> eta(m, 1); // and their factors
-    assemble(problem, Eigen::VectorXd(), eta);
-    if (!factorize())
+    const bool          centred_start = x_start && settings.start_mu > 0;
+    if (!centred_start)
       {
-        result.status  = ConicStatus::numerical_error;
-        result.seconds = since(started);
-        return result;
+        assemble(problem, Eigen::VectorXd(), eta);
+        if (!factorize())
+          {
+            result.status  = ConicStatus::numerical_error;
+            result.seconds = since(started);
+            return result;
+          }
       }
     Eigen::VectorXd x = x_start ? *x_start : normal_solve(-problem.q + problem.G.transpose() * problem.h);
     Eigen::VectorXd s = problem.h - problem.G * x, z = -s;
@@ -280,7 +339,25 @@ namespace nlmech
         for (std::size_t i = 0; i < m; ++i)
           block(u, i)[0] += 1 + std::max(worst, 0.0);
     };
-    shift(s), shift(z);
+    if (centred_start)
+      {
+        // Centred start near a given point: s = h - G x lifted into every cone by at least a
+        // margin, z = mu s^-1 (so that s o z = mu e exactly in every cone).
+        for (std::size_t i = 0; i < m; ++i)
+          {
+            auto         si     = block(s, i);
+            const double norm_y = si.tail(si.size() - 1).norm();
+            const double margin = settings.start_margin * std::max(std::abs(si[0]), norm_y);
+            if (si[0] - norm_y < margin)
+              si[0] = norm_y + std::max(margin, 1e-12);
+            auto         zi        = block(z, i);
+            const double j         = jnorm2(si);
+            zi[0]                  = settings.start_mu * si[0] / j;
+            zi.tail(zi.size() - 1) = -settings.start_mu / j * si.tail(si.size() - 1);
+          }
+      }
+    else
+      shift(s), shift(z);
 
     const double    h_scale = std::max(1.0, problem.h.norm()), q_scale = std::max(1.0, problem.q.norm());
     Eigen::VectorXd lambda(rows);
@@ -300,9 +377,10 @@ namespace nlmech
         result.objective                = objective;
         if (std::getenv("NLMECH_SOCP_DEBUG"))
           std::fprintf(stderr,
-                       "socp it %2u pres %.3e dres %.3e gap %.3e obj %.10g (%.3f s, %.3f s factorising)\n",
+                       "socp it %2u pres %.3e dres %.3e gap %.3e obj %.10g (%.3f s, %.3f s factorising, %.3f "
+                       "s solving, %.3f s assembling)\n",
                        result.iterations, result.primal_residual, result.dual_residual, result.gap, objective,
-                       since(started), result.factorization_seconds);
+                       since(started), result.factorization_seconds, solve_seconds, assemble_seconds);
         if (!(x.allFinite() && s.allFinite() && z.allFinite()) || !std::isfinite(result.gap))
           {
             // Back to the last finite iterate and its figures (the loose tolerances may hold).
@@ -330,23 +408,29 @@ namespace nlmech
           break;
 
         // Nesterov-Todd scaling per cone: W z = W^-1 s = lambda.
-        for (std::size_t i = 0; i < m; ++i)
-          {
-            const Eigen::Index d  = problem.cones[i];
-            const double      *si = s.data() + offset[i], *zi = z.data() + offset[i];
-            double            *wi = w.data() + offset[i];
-            const double       ss = std::sqrt(jnorm2(cblock(s, i))), zz = std::sqrt(jnorm2(cblock(z, i)));
-            double             sz = si[0] * zi[0] / (ss * zz);
-            for (Eigen::Index k = 1; k < d; ++k)
-              sz += si[k] * zi[k] / (ss * zz);
-            const double gamma = std::sqrt(0.5 * (1 + sz));
-            wi[0]              = (si[0] / ss + zi[0] / zz) / (2 * gamma);
-            for (Eigen::Index k = 1; k < d; ++k)
-              wi[k] = (si[k] / ss - zi[k] / zz) / (2 * gamma);
-            eta[i] = std::sqrt(ss / zz);
-            apply_scaling(wi, eta[i], d, zi, lambda.data() + offset[i], false);
-          }
-        assemble(problem, w, eta);
+        for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
+          for (std::size_t i = begin; i < end; ++i)
+            {
+              const Eigen::Index d  = problem.cones[i];
+              const double      *si = s.data() + offset[i], *zi = z.data() + offset[i];
+              double            *wi = w.data() + offset[i];
+              const double       ss = std::sqrt(jnorm2(cblock(s, i))), zz = std::sqrt(jnorm2(cblock(z, i)));
+              double             sz = si[0] * zi[0] / (ss * zz);
+              for (Eigen::Index k = 1; k < d; ++k)
+                sz += si[k] * zi[k] / (ss * zz);
+              const double gamma = std::sqrt(0.5 * (1 + sz));
+              wi[0]              = (si[0] / ss + zi[0] / zz) / (2 * gamma);
+              for (Eigen::Index k = 1; k < d; ++k)
+                wi[k] = (si[k] / ss - zi[k] / zz) / (2 * gamma);
+              eta[i] = std::sqrt(ss / zz);
+              apply_scaling(wi, eta[i], d, zi, lambda.data() + offset[i], false);
+            }
+        });
+        {
+          const auto t0 = Clock::now();
+          assemble(problem, w, eta);
+          assemble_seconds += since(t0);
+        }
         if (!factorize())
           {
             status = ConicStatus::numerical_error;
@@ -361,33 +445,39 @@ namespace nlmech
           // t = W^-1 (W^-1 r_z + d); dx from the normal equations; dz = W^-2 G dx + t;
           // ds = -r_z - G dx (equal to W (d - W dz), exact in the linear equation).
           Eigen::VectorXd t(rows);
-          for (std::size_t i = 0; i < m; ++i)
-            {
-              double *ti = t.data() + offset[i];
-              W(i, rz.data() + offset[i], ti, true);
-              for (Eigen::Index k = 0; k < problem.cones[i]; ++k)
-                ti[k] += d[offset[i] + k];
-              W(i, ti, ti, true);
-            }
+          for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i)
+              {
+                double *ti = t.data() + offset[i];
+                W(i, rz.data() + offset[i], ti, true);
+                for (Eigen::Index k = 0; k < problem.cones[i]; ++k)
+                  ti[k] += d[offset[i] + k];
+                W(i, ti, ti, true);
+              }
+          });
           dx                        = normal_solve(-rx - problem.G.transpose() * t);
           const Eigen::VectorXd Gdx = problem.G * dx;
           dz.resize(rows);
           ds = -rz - Gdx;
-          for (std::size_t i = 0; i < m; ++i)
-            {
-              double *dzi = dz.data() + offset[i];
-              W(i, Gdx.data() + offset[i], dzi, true);
-              W(i, dzi, dzi, true);
-              for (Eigen::Index k = 0; k < problem.cones[i]; ++k)
-                dzi[k] += t[offset[i] + k];
-            }
+          for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i)
+              {
+                double *dzi = dz.data() + offset[i];
+                W(i, Gdx.data() + offset[i], dzi, true);
+                W(i, dzi, dzi, true);
+                for (Eigen::Index k = 0; k < problem.cones[i]; ++k)
+                  dzi[k] += t[offset[i] + k];
+              }
+          });
         };
-        auto max_step = [&](const Eigen::VectorXd &ds, const Eigen::VectorXd &dz) {
-          double alpha = std::numeric_limits<double>::infinity();
-          for (std::size_t i = 0; i < m; ++i)
-            alpha = std::min({alpha, step_to_boundary(cblock(s, i), cblock(ds, i)),
-                              step_to_boundary(cblock(z, i), cblock(dz, i))});
-          return alpha;
+        std::vector<double> cone_steps(m);
+        auto                max_step = [&](const Eigen::VectorXd &ds, const Eigen::VectorXd &dz) {
+          for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i)
+              cone_steps[i] = std::min(step_to_boundary(cblock(s, i), cblock(ds, i)),
+                                                      step_to_boundary(cblock(z, i), cblock(dz, i)));
+          });
+          return *std::min_element(cone_steps.begin(), cone_steps.end());
         };
         // Predictor (affine scaling): lambda o d = -lambda o lambda, i.e. d = -lambda.
         Eigen::VectorXd dx, ds, dz;
@@ -397,22 +487,25 @@ namespace nlmech
         const double mu_a    = (s + alpha_a * ds).dot(z + alpha_a * dz) / double(m);
         const double sigma   = std::clamp(std::pow(std::max(mu_a, 0.0) / mu, 3), 0.0, 1.0);
         // Corrector: lambda o d = sigma mu e - lambda o lambda - (W^-1 ds_a) o (W dz_a).
-        Eigen::VectorXd d(rows), u(max_dimension), v(max_dimension), r(max_dimension);
-        for (std::size_t i = 0; i < m; ++i)
-          {
-            const Eigen::Index dim = problem.cones[i];
-            const double      *li  = lambda.data() + offset[i];
-            W(i, ds.data() + offset[i], u.data(), true);
-            W(i, dz.data() + offset[i], v.data(), false);
-            // r = sigma mu e - lambda o lambda - u o v
-            double l2 = 0, uv = 0;
-            for (Eigen::Index k = 0; k < dim; ++k)
-              l2 += li[k] * li[k], uv += u[k] * v[k];
-            r[0] = sigma * mu - l2 - uv;
-            for (Eigen::Index k = 1; k < dim; ++k)
-              r[k] = -2 * li[0] * li[k] - (u[0] * v[k] + v[0] * u[k]);
-            jordan_solve(li, r.data(), dim, d.data() + offset[i]);
-          }
+        Eigen::VectorXd d(rows);
+        for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
+          Eigen::VectorXd u(max_dimension), v(max_dimension), r(max_dimension);
+          for (std::size_t i = begin; i < end; ++i)
+            {
+              const Eigen::Index dim = problem.cones[i];
+              const double      *li  = lambda.data() + offset[i];
+              W(i, ds.data() + offset[i], u.data(), true);
+              W(i, dz.data() + offset[i], v.data(), false);
+              // r = sigma mu e - lambda o lambda - u o v
+              double l2 = 0, uv = 0;
+              for (Eigen::Index k = 0; k < dim; ++k)
+                l2 += li[k] * li[k], uv += u[k] * v[k];
+              r[0] = sigma * mu - l2 - uv;
+              for (Eigen::Index k = 1; k < dim; ++k)
+                r[k] = -2 * li[0] * li[k] - (u[0] * v[k] + v[0] * u[k]);
+              jordan_solve(li, r.data(), dim, d.data() + offset[i]);
+            }
+        });
         newton(d, dx, ds, dz);
         const double alpha = std::min(1.0, settings.step_fraction * max_step(ds, dz));
         x += alpha * dx, s += alpha * ds, z += alpha * dz;

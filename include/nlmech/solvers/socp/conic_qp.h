@@ -51,6 +51,12 @@ namespace nlmech
     double       infeasibility_tolerance = 1e-8;
     unsigned int max_iterations          = 100;
     double       step_fraction           = 0.99;
+    /// With a starting point x: start_mu > 0 starts from s = h - G x, lifted into every cone to
+    /// t - |y| >= start_margin max(|t|, |y|), and the exactly centred z = start_mu s^-1 (s o z =
+    /// start_mu e), instead of CVXOPT's start (which also needs a factorisation). Suits problems
+    /// whose solution is near a known point, such as projections of nearly feasible candidates.
+    double start_mu     = 0;
+    double start_margin = 0.1;
   };
 
   struct ConicResult
@@ -83,12 +89,17 @@ namespace nlmech
 
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
     Eigen::SparseMatrix<double>                                            normal;
-    // Per cone: the columns of G it touches, G_i densely on them, and where the entries of
-    // G_i^T W G_i go in normal.valuePtr() (lower triangle, -1 for the upper).
-    std::vector<std::vector<int>>  cone_columns;
-    std::vector<Eigen::MatrixXd>   cone_G, cone_GJG; // G_i and G_i^T J G_i on the cone's columns
-    std::vector<Eigen::Index>      offset;           // first row of every cone
-    std::vector<std::vector<long>> cone_slots;
+    // Consecutive cones on the same columns of G form a group (cones group_begin[g] to
+    // group_begin[g + 1]); per group its columns and where the entries of its block of the normal
+    // matrix go in normal.valuePtr() (lower triangle); per cone G_i densely on its group's columns.
+    std::vector<std::size_t>       group_begin, cone_group;
+    std::vector<std::vector<int>>  group_columns;
+    std::vector<std::vector<long>> group_slots;
+    std::vector<double>            group_values; // the groups' blocks, from group_value_start[g]
+    std::vector<std::size_t>       group_value_start;
+    std::vector<double>            cone_G;
+    std::vector<std::size_t>       cone_G_start;
+    std::vector<Eigen::Index>      offset; // first row of every cone
     std::vector<long>              diagonal_slot;
     long                           pattern_rows = -1, pattern_cols = -1, pattern_nonzeros = -1;
     std::vector<int>               pattern_inner, pattern_outer;
