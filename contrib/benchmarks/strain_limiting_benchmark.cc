@@ -7,7 +7,12 @@
 // failed. Also the distance of each result from the candidate (the SOCP one is the true projection)
 // and the fitted growth of our projection's cost with the number of unknowns.
 //
-// usage: strain_limiting_benchmark [steps] [baseline_steps] [max resolution] [--no-ipopt] [--only-1|--only-10]
+// Our solver runs twice on every candidate: with its default start (centred at the candidate) and
+// with CVXOPT's starting point, the column "ours, CVXOPT start" (the same solver otherwise).
+//
+// usage: strain_limiting_benchmark [steps] [baseline_steps] [max resolution] [--no-ipopt]
+// [--only-1|--only-10]
+//                                  [--mesh N] (only the N x N row)
 #include <nlmech/models/cloth/cloth_simulation.h>
 
 #include <IpIpoptApplication.hpp>
@@ -229,10 +234,20 @@ int main(int argc, char **argv)
   args.erase(std::remove(args.begin(), args.end(), "--no-ipopt"), args.end());
   std::vector<double> limit_values = {1.01, 1.10};
   for (const double l : {1.01, 1.10})
-    if (std::find(args.begin(), args.end(), "--only-" + std::to_string(int(std::lround((l - 1) * 100)))) != args.end())
+    if (std::find(args.begin(), args.end(), "--only-" + std::to_string(int(std::lround((l - 1) * 100)))) !=
+        args.end())
       limit_values = {l};
-  args.erase(std::remove_if(args.begin(), args.end(), [](const std::string &a) { return a.rfind("--only-", 0) == 0; }),
+  args.erase(std::remove_if(args.begin(), args.end(),
+                            [](const std::string &a) { return a.rfind("--only-", 0) == 0; }),
              args.end());
+  unsigned int only_mesh = 0;
+  for (std::size_t k = 0; k + 1 < args.size(); ++k)
+    if (args[k] == "--mesh")
+      {
+        only_mesh = unsigned(std::stoi(args[k + 1]));
+        args.erase(args.begin() + long(k), args.begin() + long(k) + 2);
+        break;
+      }
   const unsigned int steps          = args.size() > 0 ? unsigned(std::stoi(args[0])) : 20;
   const unsigned int baseline_steps = args.size() > 1 ? unsigned(std::stoi(args[1])) : 3;
   const unsigned int max_resolution = args.size() > 2 ? unsigned(std::stoi(args[2])) : 120;
@@ -244,16 +259,17 @@ int main(int argc, char **argv)
   std::printf(
       "Swinging sheet, SAP, h = 1/60 s; medians over %u steps (baselines: the last %u steps' candidates)\n",
       steps, baseline_steps);
-  std::printf(
-      "| limit | mesh | unknowns | limits | IE | ours | iterations | Ipopt | Gauss-Seidel | ours/IE | "
-      "Ipopt/ours | GS/ours | distance Ipopt/ours | distance GS/ours |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| limit | mesh | unknowns | limits | IE | ours | iterations | ours, CVXOPT start | iterations "
+              "| Ipopt | "
+              "Gauss-Seidel | ours/IE | CVXOPT start/ours | Ipopt/ours | GS/ours | distance Ipopt/ours | "
+              "distance GS/ours |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const double limit : limit_values)
     {
       std::vector<std::pair<double, double>> growth; // (unknowns, our median)
       for (const unsigned int n : {10u, 20u, 40u, 60u, 120u})
         {
-          if (n > max_resolution)
+          if (n > max_resolution || (only_mesh > 0 && n != only_mesh))
             continue;
           const bool baselines = n <= 60;
           const auto mesh      = make_sheet_mesh(0.5, n);
@@ -264,8 +280,11 @@ int main(int argc, char **argv)
           settings.time_step = 1.0 / 60;
           ClothSimulation      sim(mesh, material, {0, n}, limits, settings);
           StrainLimitProjector projector(limits, sim.mass(), sim.fixed());
-          Column               ie, ours, ip, gs;
-          std::vector<double>  iterations, ratio_ip, ratio_gs;
+          ConicSettings        cvxopt_start;
+          cvxopt_start.start_mu = -1;
+          StrainLimitProjector classic(limits, sim.mass(), sim.fixed(), cvxopt_start);
+          Column               ie, ours, ours_classic, ip, gs;
+          std::vector<double>  iterations, iterations_classic, ratio_ip, ratio_gs;
           for (unsigned int s = 0; s < steps; ++s)
             {
               ClothStepStatistics   st;
@@ -278,6 +297,14 @@ int main(int argc, char **argv)
               iterations.push_back(r.iterations);
               if (r.status != ConicStatus::solved)
                 ours.not_converged = true;
+              {
+                Eigen::VectorXd        xc;
+                const ProjectionResult rc = classic.project(x_hat, xc);
+                ours_classic.seconds.push_back(rc.seconds);
+                iterations_classic.push_back(rc.iterations);
+                if (rc.status != ConicStatus::solved)
+                  ours_classic.not_converged = true;
+              }
               // The baselines on the last steps' candidates, where the swing is under way and many
               // limits are active (the first candidates from rest barely violate any).
               if (baselines && s + baseline_steps >= steps && r.distance > 1e-12)
@@ -318,7 +345,8 @@ int main(int argc, char **argv)
             }
           const double ours_median = median(ours.seconds);
           growth.emplace_back(double(3 * mesh.vertices.size()), ours_median);
-          char r_ip[32] = "", r_gs[32] = "", d_ip[32] = "", d_gs[32] = "";
+          char r_ip[32] = "", r_gs[32] = "", d_ip[32] = "", d_gs[32] = "", r_classic[32] = "";
+          std::snprintf(r_classic, sizeof r_classic, "%.2f", median(ours_classic.seconds) / ours_median);
           if (!ip.seconds.empty())
             std::snprintf(r_ip, sizeof r_ip, "%.1f", median(ip.seconds) / ours_median);
           if (!gs.seconds.empty())
@@ -327,11 +355,13 @@ int main(int argc, char **argv)
             std::snprintf(d_ip, sizeof d_ip, "%.4f", median(ratio_ip));
           if (!ratio_gs.empty())
             std::snprintf(d_gs, sizeof d_gs, "%.4f", median(ratio_gs));
-          std::printf(
-              "| %.0f%% | %ux%u | %zu | %zu | %.3f s | %s | %.0f | %s | %s | %.1f | %s | %s | %s | %s |\n",
-              (limit - 1) * 100, n, n, 3 * mesh.vertices.size(), limits.size(), median(ie.seconds),
-              ours.text().c_str(), median(iterations), baselines && ipopt ? ip.text().c_str() : "",
-              baselines ? gs.text().c_str() : "", ours_median / median(ie.seconds), r_ip, r_gs, d_ip, d_gs);
+          std::printf("| %.0f%% | %ux%u | %zu | %zu | %.3f s | %s | %.0f | %s | %.0f | %s | %s | %.2f | %s | "
+                      "%s | %s | %s | %s |\n",
+                      (limit - 1) * 100, n, n, 3 * mesh.vertices.size(), limits.size(), median(ie.seconds),
+                      ours.text().c_str(), median(iterations), ours_classic.text().c_str(),
+                      median(iterations_classic), baselines && ipopt ? ip.text().c_str() : "",
+                      baselines ? gs.text().c_str() : "", ours_median / median(ie.seconds), r_classic, r_ip,
+                      r_gs, d_ip, d_gs);
           std::fflush(stdout);
         }
       if (growth.size() >= 2)

@@ -4,6 +4,8 @@
 // state valid, how far can a step go). ElementEnergyTerm writes an element's energy once, as a
 // template on the scalar type, and derives gradient and Hessian by forward AD (Trilinos Sacado).
 
+#include <deal.II/base/parallel.h>
+
 #include <Eigen/Sparse>
 #include <Sacado.hpp>
 #include <Sacado_Tay_Taylor.hpp>
@@ -113,22 +115,7 @@ namespace nlmech
         }
     }
 
-    void add_hessian(const Eigen::VectorXd &x, Triplets &h) const override
-    {
-      for (std::size_t e = 0; e < element.n_elements(); ++e)
-        {
-          const auto             dofs = element.dofs(e);
-          std::array<Hessian, N> local;
-          for (std::size_t i = 0; i < N; ++i)
-            {
-              local[i] = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
-            }
-          const Hessian energy = element.energy(local, e);
-          for (std::size_t i = 0; i < N; ++i)
-            for (std::size_t j = 0; j < N; ++j)
-              h.emplace_back(dofs[i], dofs[j], energy.dx(i).dx(j));
-        }
-    }
+    void add_hessian(const Eigen::VectorXd &x, Triplets &h) const override { element_hessians(x, h); }
 
     /// H(x) v from the gradient of the directional derivative phi = dE(x + eps v)/deps (cost ~2N).
     void add_hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
@@ -231,6 +218,32 @@ namespace nlmech
     }
 
   private:
+    /// Every element's N x N Hessian by forward-over-forward AD, on deal.II's threads (each
+    /// element writes its own N^2 triplets).
+    void element_hessians(const Eigen::VectorXd &x, Triplets &h) const
+    {
+      const std::size_t n_elem = element.n_elements(), first = h.size();
+      h.resize(first + n_elem * N * N);
+      auto work = [&](const std::size_t begin, const std::size_t end) {
+        for (std::size_t e = begin; e < end; ++e)
+          {
+            const auto             dofs = element.dofs(e);
+            std::array<Hessian, N> local;
+            for (std::size_t i = 0; i < N; ++i)
+              local[i] = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
+            const Hessian energy = element.energy(local, e);
+            for (std::size_t i = 0; i < N; ++i)
+              for (std::size_t j = 0; j < N; ++j)
+                h[first + e * N * N + i * N + j] =
+                    Eigen::Triplet<double>(int(dofs[i]), int(dofs[j]), energy.dx(i).dx(j));
+          }
+      };
+      if (n_elem < 256)
+        work(0, n_elem);
+      else
+        dealii::parallel::apply_to_subranges(std::size_t(0), n_elem, work, 128);
+    }
+
     template <typename S>
     std::array<S, N> gather(const Eigen::VectorXd &x, std::size_t e) const
     {

@@ -41,6 +41,7 @@ namespace nlmech
     const double                                             g0     = g.norm();
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
     long                                                     analysed_nonzeros = -1;
+    double                                                   last_shift        = 0;
     cholesky.cholmod().print = 0; // silent: "not positive definite" is expected and handled by the shift
 
     for (result.iterations = 0;; ++result.iterations)
@@ -56,50 +57,57 @@ namespace nlmech
                                        ", started at " + std::to_string(g0) + ")."));
 
         // Hessian restricted to the free unknowns.
-        const Eigen::SparseMatrix<double> H = model.hessian(x);
-        Triplets                          free_triplets;
-        double                            diagonal_scale = 0;
-        // Explicit diagonal entries keep the sparsity pattern fixed when a shift is added.
-        for (std::size_t k = 0; k < m; ++k)
-          free_triplets.emplace_back(k, k, 0.0);
-        for (int col = 0; col < H.outerSize(); ++col)
-          for (Eigen::SparseMatrix<double>::InnerIterator it(H, col); it; ++it)
-            if (free_index[it.row()] >= 0 && free_index[it.col()] >= 0)
-              {
-                free_triplets.emplace_back(free_index[it.row()], free_index[it.col()], it.value());
-                if (it.row() == it.col())
-                  diagonal_scale = std::max(diagonal_scale, std::abs(it.value()));
-              }
-        Eigen::SparseMatrix<double> Hf(m, m);
-        Hf.setFromTriplets(free_triplets.begin(), free_triplets.end());
-        Hf.makeCompressed();
-
+        double diagonal_scale = 0;
+        auto   free_matrix    = [&](const Eigen::SparseMatrix<double> &H) {
+          Triplets free_triplets;
+          // Explicit diagonal entries keep the sparsity pattern fixed when a shift is added.
+          for (std::size_t k = 0; k < m; ++k)
+            free_triplets.emplace_back(k, k, 0.0);
+          for (int col = 0; col < H.outerSize(); ++col)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(H, col); it; ++it)
+              if (free_index[it.row()] >= 0 && free_index[it.col()] >= 0)
+                {
+                  free_triplets.emplace_back(free_index[it.row()], free_index[it.col()], it.value());
+                  if (it.row() == it.col())
+                    diagonal_scale = std::max(diagonal_scale, std::abs(it.value()));
+                }
+          Eigen::SparseMatrix<double> Hf(m, m);
+          Hf.setFromTriplets(free_triplets.begin(), free_triplets.end());
+          Hf.makeCompressed();
+          return Hf;
+        };
+        Eigen::SparseMatrix<double> Hf = free_matrix(model.hessian(x));
+        // A descent direction from A + shift I, if its Cholesky factorisation exists.
         Eigen::VectorXd dx_free;
-        double          shift = 0;
+        auto            try_solve = [&](const Eigen::SparseMatrix<double> &M, const double shift) {
+          Eigen::SparseMatrix<double> A = M;
+          if (shift > 0)
+            for (std::size_t k = 0; k < m; ++k)
+              A.coeffRef(k, k) += shift;
+          // The symbolic analysis is reused while the Hessian's pattern does not change.
+          if (A.nonZeros() != analysed_nonzeros)
+            {
+              cholesky.analyzePattern(A);
+              analysed_nonzeros = A.nonZeros();
+            }
+          cholesky.factorize(A);
+          ++result.factorizations;
+          if (cholesky.info() != Eigen::Success)
+            return false;
+          dx_free = cholesky.solve(-g);
+          return dx_free.dot(g) < 0;
+        };
+        const double shift_floor = 1e-8 * (diagonal_scale > 0 ? diagonal_scale : 1.0);
+        double       shift       = last_shift / 10 > shift_floor ? last_shift / 10 : 0;
         for (int attempt = 0;; ++attempt)
           {
-            Eigen::SparseMatrix<double> A = Hf;
-            if (shift > 0)
-              for (std::size_t k = 0; k < m; ++k)
-                A.coeffRef(k, k) += shift;
-            // The symbolic analysis is reused while the Hessian's pattern does not change.
-            if (A.nonZeros() != analysed_nonzeros)
-              {
-                cholesky.analyzePattern(A);
-                analysed_nonzeros = A.nonZeros();
-              }
-            cholesky.factorize(A);
-            ++result.factorizations;
-            if (cholesky.info() == Eigen::Success)
-              {
-                dx_free = cholesky.solve(-g);
-                if (dx_free.dot(g) < 0)
-                  break;
-              }
+            if (try_solve(Hf, shift))
+              break;
             AssertThrow(attempt < 20,
                         dealii::ExcMessage("Newton: the Hessian could not be made positive definite."));
-            shift = (shift == 0 ? 1e-8 * (diagonal_scale > 0 ? diagonal_scale : 1.0) : 10 * shift);
+            shift = (shift == 0 ? shift_floor : 10 * shift);
           }
+        last_shift = shift;
 
         Eigen::VectorXd dx = Eigen::VectorXd::Zero(n);
         for (std::size_t k = 0; k < m; ++k)

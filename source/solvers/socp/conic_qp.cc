@@ -523,6 +523,18 @@ namespace nlmech
     result.status = status;
     result.x = x, result.s = s, result.z = z;
     result.seconds = since(started);
+    if (centred_start && (status == ConicStatus::iteration_limit || status == ConicStatus::numerical_error))
+      {
+        // The centred start can be poor far from the solution (mu too small for the residuals):
+        // start again from CVXOPT's point.
+        ConicSettings standard = settings;
+        standard.start_mu      = 0;
+        ConicResult again      = solve(problem, standard, nullptr);
+        again.iterations += result.iterations;
+        again.factorization_seconds += result.factorization_seconds;
+        again.seconds = since(started);
+        return again;
+      }
     return result;
   }
 } // namespace nlmech

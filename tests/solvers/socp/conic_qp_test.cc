@@ -144,6 +144,45 @@ TEST(ConicQP, SameSolutionFromDifferentStartingPoints)
     }
 }
 
+TEST(ConicQP, CentredStartFromAGivenPointFindsTheSameSolution)
+{
+  // The centred start (s = h - G x lifted into the cones, z = mu s^-1) must reach the solution of
+  // CVXOPT's start on every problem, from near and far points, without the start's factorisation.
+  std::mt19937                     rng(11);
+  std::normal_distribution<double> normal;
+  for (unsigned int seed = 1; seed <= 12; ++seed)
+    {
+      const ConicQP p = random_problem(30, 25, 2 + seed % 4, 100 + seed, seed % 6 == 0);
+      ConicQPSolver reference_solver, solver;
+      const auto    reference = reference_solver.solve(p);
+      ASSERT_EQ(reference.status, ConicStatus::solved);
+      EXPECT_EQ(reference_solver.n_factorizations, reference.iterations + 1);
+      for (const double distance : {1e-3, 1.0, 10.0})
+        for (const double mu : {1e-4, 1e-1})
+          {
+            const Eigen::VectorXd start =
+                reference.x +
+                distance * Eigen::VectorXd::NullaryExpr(p.q.size(), [&]() { return normal(rng); });
+            ConicSettings settings;
+            settings.start_mu         = mu;
+            const unsigned int before = solver.n_factorizations;
+            const ConicResult  r      = solver.solve(p, settings, &start);
+            ASSERT_EQ(r.status, ConicStatus::solved)
+                << "seed " << seed << ", distance " << distance << ", mu " << mu;
+            EXPECT_LT(kkt_error(p, r), 1e-8) << "seed " << seed;
+            EXPECT_LT(std::abs(r.objective - reference.objective),
+                      1e-7 * std::max(1.0, std::abs(reference.objective)));
+            // No factorisation for the start, and no restart from CVXOPT's point (the fallback)
+            // on these problems, except from far away on LP-like ones.
+            if (distance < 10 || seed % 6 != 0)
+              {
+                EXPECT_EQ(solver.n_factorizations - before, r.iterations) << "seed " << seed;
+                EXPECT_LT(r.iterations, 50u);
+              }
+          }
+    }
+}
+
 TEST(ConicQP, InfeasibleProblemsAreDetected)
 {
   // |x - 0| <= 1 and |x - 3| <= 1 in 1D (as 2D cones (1, x) and (1, x - 3)).

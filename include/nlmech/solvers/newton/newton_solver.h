@@ -1,7 +1,10 @@
 #pragma once
 // Energy minimisation by Newton's method with a backtracking (Armijo) line search, on any Model.
 // The Hessian of the free unknowns is factorised by CHOLMOD (supernodal Cholesky); where it is not
-// positive definite a growing diagonal shift is added. Steps are capped by the Model's safe step.
+// positive definite a diagonal shift is added, starting from a tenth of the last one that worked
+// (so a run of indefinite Hessians does not pay for the whole search each time; the shift falls
+// back to zero as the Hessian turns definite near a stable minimum). Steps are capped by the
+// Model's safe step.
 
 #include <nlmech/models/model.h>
 
