@@ -33,32 +33,6 @@ namespace nlmech
       return s.substr(begin, s.find_last_not_of(" \t\r\n") - begin + 1);
     }
 
-    /// The message of an exception without deal.II's source-location banner.
-    std::string message_of(const std::exception &e)
-    {
-      if (const auto *d = dynamic_cast<const ExceptionBase *>(&e))
-        {
-          std::ostringstream info;
-          d->print_info(info);
-          std::string text = trim(info.str());
-          // Collapse deal.II's indentation and line breaks into one readable paragraph.
-          std::string collapsed;
-          bool        space = false;
-          for (char c : text)
-            if (c == '\n' || c == ' ' || c == '\t')
-              space = true;
-            else
-              {
-                if (space && !collapsed.empty())
-                  collapsed += ' ';
-                collapsed += c;
-                space = false;
-              }
-          return collapsed.empty() ? d->get_exc_name() : collapsed;
-        }
-      return e.what();
-    }
-
     void declare_common_parameters(ParameterHandler &prm, const std::string &scene)
     {
       prm.declare_entry("Scene type", scene,
@@ -159,6 +133,31 @@ namespace nlmech
       return 0;
     }
   } // namespace
+
+  std::string message_of(const std::exception &e)
+  {
+    if (const auto *d = dynamic_cast<const ExceptionBase *>(&e))
+      {
+        std::ostringstream info;
+        d->print_info(info);
+        std::string text = trim(info.str());
+        // Collapse deal.II's indentation and line breaks into one readable paragraph.
+        std::string collapsed;
+        bool        space = false;
+        for (char c : text)
+          if (c == '\n' || c == ' ' || c == '\t')
+            space = true;
+          else
+            {
+              if (space && !collapsed.empty())
+                collapsed += ' ';
+              collapsed += c;
+              space = false;
+            }
+        return collapsed.empty() ? d->get_exc_name() : collapsed;
+      }
+    return e.what();
+  }
 
   std::string read_scene_type(const std::string &parameter_file)
   {

@@ -5,7 +5,9 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/function_parser.h>
+#include <deal.II/base/mpi.h>
 
+#include <nlmech/app/command_line.h>
 #include <nlmech/base/progress.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
@@ -15,8 +17,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 namespace nlmech
 {
@@ -24,6 +29,62 @@ namespace nlmech
 
   namespace
   {
+    /// One scheme's run, packed into a string (length-prefixed fields) for the gather to rank 0.
+    struct SchemeOutcome
+    {
+      struct Figure
+      {
+        std::string name;
+        double      value;
+        std::string unit;
+      };
+      std::size_t         index = 0;
+      std::string         csv, message, error;
+      std::vector<Figure> figures;
+
+      static void put(std::string &out, const std::string &field)
+      {
+        out += std::to_string(field.size()) + ":" + field;
+      }
+      static std::string take(const std::string &in, std::size_t &pos)
+      {
+        const std::size_t colon = in.find(':', pos);
+        const std::size_t n     = std::stoul(in.substr(pos, colon - pos));
+        std::string       field = in.substr(colon + 1, n);
+        pos                     = colon + 1 + n;
+        return field;
+      }
+      void pack(std::string &out) const
+      {
+        put(out, std::to_string(index)), put(out, csv), put(out, message), put(out, error);
+        put(out, std::to_string(figures.size()));
+        char value[64];
+        for (const auto &f : figures)
+          {
+            std::snprintf(value, sizeof value, "%.17g", f.value);
+            put(out, f.name), put(out, value), put(out, f.unit);
+          }
+      }
+      static SchemeOutcome unpack(const std::string &in, std::size_t &pos)
+      {
+        SchemeOutcome o;
+        o.index             = std::stoul(take(in, pos));
+        o.csv               = take(in, pos);
+        o.message           = take(in, pos);
+        o.error             = take(in, pos);
+        const std::size_t n = std::stoul(take(in, pos));
+        for (std::size_t k = 0; k < n; ++k)
+          {
+            Figure f;
+            f.name  = take(in, pos);
+            f.value = std::strtod(take(in, pos).c_str(), nullptr);
+            f.unit  = take(in, pos);
+            o.figures.push_back(f);
+          }
+        return o;
+      }
+    };
+
     class BiphasicSheetScene : public Scene
     {
     public:
@@ -220,25 +281,32 @@ namespace nlmech
           write_file_atomically(context.output.file("limits.csv"), polar.str());
         }
         const unsigned int steps = unsigned(std::llround(end_time / settings.time_step));
-        std::ostringstream csv;
-        csv << "scheme,step,time,kinetic,elastic,gravity,contact,total,violation,newton_seconds,projection_"
-               "seconds,"
-               "projection_iterations\n"
-            << std::setprecision(12);
-        ProgressReporter progress("biphasic sheet", double(steps * schemes.size()), context.comm, std::cout);
-        std::vector<double>                                               frame_times;
+        // The schemes are independent runs: scheme k goes to rank k mod (number of ranks), and
+        // rank 0 gathers their energy rows, figures and messages in scheme order (the same files
+        // as a serial run). Frames come from the first scheme, always on rank 0.
+        const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(context.comm);
+        const unsigned int rank    = Utilities::MPI::this_mpi_process(context.comm);
+        unsigned int       mine    = 0;
+        for (std::size_t k = rank; k < schemes.size(); k += n_ranks)
+          ++mine;
+        ProgressReporter    progress("biphasic sheet", double(steps * mine), context.comm, std::cout);
+        std::vector<double> frame_times;
         std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> frame_fields;
-        Eigen::VectorXd                                                   rest;
-        for (std::size_t k = 0; k < schemes.size(); ++k)
+        std::string                                                       packed; // this rank's schemes
+        unsigned int                                                      done = 0;
+        for (std::size_t k = rank; k < schemes.size(); k += n_ranks, ++done)
           {
             ClothSettings s = settings;
             s.scheme        = schemes[k];
-            ClothSimulation sim(mesh, material, pinned, limits, s, cone_settings, pin_offsets);
-            rest               = sim.shell().rest_positions;
-            const double e0    = sim.energy().total();
-            double       worst = -1, newton = 0, projection = 0;
-            unsigned int iterations = 0, projections = 0;
-            auto         record = [&](unsigned int step, const ClothStepStatistics &st) {
+            std::ostringstream csv;
+            csv << std::setprecision(12);
+            SchemeOutcome         outcome;
+            ClothSimulation       sim(mesh, material, pinned, limits, s, cone_settings, pin_offsets);
+            const Eigen::VectorXd rest  = sim.shell().rest_positions;
+            const double          e0    = sim.energy().total();
+            double                worst = -1, newton = 0, projection = 0;
+            unsigned int          iterations = 0, projections = 0;
+            auto                  record = [&](unsigned int step, const ClothStepStatistics &st) {
               const ClothEnergy e = sim.energy();
               csv << to_string(s.scheme) << "," << step << "," << sim.time() << "," << e.kinetic << ","
                   << e.elastic << "," << e.gravity << "," << e.contact << "," << e.total() << ","
@@ -262,11 +330,9 @@ namespace nlmech
                   }
                 catch (const std::exception &e)
                   {
-                    write_results(context, csv.str(), frame_times, frame_fields, mesh);
-                    context.partial_reason = to_string(s.scheme) +
-                                             " stopped at t = " + std::to_string(sim.time()) +
-                                             " s: " + e.what();
-                    throw;
+                    outcome.error = to_string(s.scheme) + " stopped at t = " + std::to_string(sim.time()) +
+                                    " s: " + message_of(e);
+                    break;
                   }
                 record(step, st);
                 worst = std::max(worst, st.violation);
@@ -275,30 +341,70 @@ namespace nlmech
                 if (k == 0 && frames > 0 && step % std::max(1u, steps / frames) == 0)
                   frame();
                 if (step % std::max(1u, steps / 20) == 0 || step == steps)
-                  progress.report(double(k * steps + step),
+                  progress.report(double(done * steps + step),
                                   to_string(s.scheme) + " t = " + std::to_string(sim.time()) + " s");
               }
-            const std::string name = to_string(s.scheme);
-            context.summary.add_figure("energy_lost_" + name, e0 - sim.energy().total(), "J");
-            context.summary.add_figure("newton_seconds_per_step_" + name, newton / steps, "s");
-            if (uses_projection(s.scheme))
+            outcome.index = k;
+            outcome.csv   = csv.str();
+            if (outcome.error.empty())
               {
-                context.summary.add_figure("max_violation_" + name, worst, "1");
-                context.summary.add_figure("projection_seconds_per_solve_" + name, projection / projections,
-                                           "s");
-                context.summary.add_figure("projection_iterations_per_solve_" + name,
-                                           double(iterations) / projections, "1");
+                const std::string name = to_string(s.scheme);
+                outcome.figures.push_back({"energy_lost_" + name, e0 - sim.energy().total(), "J"});
+                outcome.figures.push_back({"newton_seconds_per_step_" + name, newton / steps, "s"});
+                if (uses_projection(s.scheme))
+                  {
+                    outcome.figures.push_back({"max_violation_" + name, worst, "1"});
+                    outcome.figures.push_back(
+                        {"projection_seconds_per_solve_" + name, projection / projections, "s"});
+                    outcome.figures.push_back(
+                        {"projection_iterations_per_solve_" + name, double(iterations) / projections, "1"});
+                  }
+                std::ostringstream message;
+                message << name << ": energy lost " << e0 - sim.energy().total() << " J over " << end_time
+                        << " s, largest violation " << worst << ", " << newton / steps << " s Newton and "
+                        << (projections ? projection / projections : 0.0) << " s per projection";
+                outcome.message = message.str();
               }
-            context.pcout << name << ": energy lost " << e0 - sim.energy().total() << " J over " << end_time
-                          << " s, largest violation " << worst << ", " << newton / steps << " s Newton and "
-                          << (projections ? projection / projections : 0.0) << " s per projection"
-                          << std::endl;
+            outcome.pack(packed);
           }
+        // Rank 0: all schemes in order; everyone learns the first failure.
+        const std::vector<std::string> parts = Utilities::MPI::gather(context.comm, packed, 0);
+        std::vector<SchemeOutcome>     outcomes;
+        for (const auto &part : parts)
+          for (std::size_t pos = 0; pos < part.size();)
+            outcomes.push_back(SchemeOutcome::unpack(part, pos));
+        std::sort(outcomes.begin(), outcomes.end(),
+                  [](const SchemeOutcome &a, const SchemeOutcome &b) { return a.index < b.index; });
+        std::string all_csv =
+            "scheme,step,time,kinetic,elastic,gravity,contact,total,violation,newton_seconds,projection_"
+            "seconds,projection_iterations\n";
+        std::string error;
+        for (const auto &o : outcomes)
+          {
+            all_csv += o.csv;
+            if (!o.error.empty())
+              {
+                if (error.empty())
+                  error = o.error;
+                continue;
+              }
+            for (const auto &f : o.figures)
+              context.summary.add_figure(f.name, f.value, f.unit);
+            context.pcout << o.message << std::endl;
+          }
+        error = Utilities::MPI::broadcast(context.comm, error, 0);
+        if (!error.empty())
+          {
+            write_results(context, all_csv, frame_times, frame_fields, mesh);
+            context.partial_reason = error;
+            throw std::runtime_error(error);
+          }
+        context.summary.add_number("mpi_ranks", n_ranks);
         context.summary.add_number("vertices", mesh.vertices.size());
         context.summary.add_number("triangles", mesh.cells.size());
         context.summary.add_number("stretch_limits", limits.size());
         context.summary.add_number("steps", steps);
-        write_results(context, csv.str(), frame_times, frame_fields, mesh);
+        write_results(context, all_csv, frame_times, frame_fields, mesh);
       }
 
     private:

@@ -8,11 +8,15 @@
 
 #include <mpi.h>
 
+#include <exception>
 #include <string>
 
 namespace nlmech
 {
   int run_command_line(int argc, char **argv, MPI_Comm comm);
+
+  /// The message of an exception in one paragraph, without deal.II's source-location banner.
+  std::string message_of(const std::exception &e);
 
   /// The value of the top-level `set Scene type = NAME` entry of a parameter file, or "" if absent.
   std::string read_scene_type(const std::string &parameter_file);
