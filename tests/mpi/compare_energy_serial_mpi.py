@@ -10,9 +10,10 @@ import argparse
 import csv
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
+
+from serial_and_np2 import run_serial_and_np2
 
 COMPARED = ["time", "kinetic", "elastic", "gravity", "contact", "total", "violation", "projection_iterations"]
 
@@ -31,15 +32,10 @@ def main():
     work = tempfile.mkdtemp(prefix="nlmech_mpi_energy_")
     try:
         rows = {}
-        for ranks in (1, 2):
-            out = os.path.join(work, f"np{ranks}")
-            prefix = [] if ranks == 1 else ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "2"]
-            run = subprocess.run(prefix + [args.nlmech, args.prm, "--output-directory", out],
-                                 capture_output=True, text=True)
-            if run.returncode != 0:
-                print(run.stdout, run.stderr)
-                print(f"FAIL: run on {ranks} rank(s) exited with {run.returncode}")
-                return 1
+        folders = run_serial_and_np2(args.nlmech, args.prm, work)
+        if folders is None:
+            return 1
+        for ranks, out in folders.items():
             rows[ranks] = read(os.path.join(out, "energy.csv"))
         serial, parallel = rows[1], rows[2]
         if serial.keys() != parallel.keys():
