@@ -298,19 +298,14 @@ namespace nlmech
     };
     // Normal-equation solve with one step of iterative refinement where the residual is not
     // already at rounding level (late iterations, when W spans many orders of magnitude).
-    double solve_seconds = 0, assemble_seconds = 0;
+    double solve_seconds = 0, assemble_seconds = 0; // for NLMECH_SOCP_DEBUG
     auto   normal_solve = [&](const Eigen::VectorXd &rhs) {
-      const auto t0 = Clock::now();
-      struct Add
-      {
-        double           &a;
-        Clock::time_point t;
-        ~Add() { a += since(t); }
-      } add{solve_seconds, t0};
-      Eigen::VectorXd       x = cholesky.solve(rhs);
-      const Eigen::VectorXd r = rhs - normal.selfadjointView<Eigen::Lower>() * x;
+      const auto            t0 = Clock::now();
+      Eigen::VectorXd       x  = cholesky.solve(rhs);
+      const Eigen::VectorXd r  = rhs - normal.selfadjointView<Eigen::Lower>() * x;
       if (r.norm() > 1e-12 * rhs.norm())
         x += cholesky.solve(r);
+      solve_seconds += since(t0);
       return x;
     };
 
