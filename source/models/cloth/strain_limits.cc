@@ -254,9 +254,11 @@ namespace nlmech
           {
             std::vector<std::size_t> unknowns;
             const ConicQP            p = problem(x_hat, include, unknowns);
-            // From the candidate itself (q = -P x_hat), with the centred start.
-            const Eigen::VectorXd x0 = -p.q.cwiseQuotient(p.P_diagonal);
-            const ConicResult     r  = cone_solver.solve(p, settings, settings.start_mu > 0 ? &x0 : nullptr);
+            // From the candidate (first round) or the last round's projection, centred.
+            Eigen::VectorXd x0(Eigen::Index(unknowns.size()));
+            for (std::size_t k = 0; k < unknowns.size(); ++k)
+              x0[Eigen::Index(k)] = x[Eigen::Index(unknowns[k])];
+            const ConicResult r = cone_solver.solve(p, settings, settings.start_mu > 0 ? &x0 : nullptr);
             if (std::getenv("NLMECH_PROJECTION_DEBUG"))
               std::fprintf(stderr, "projection round %u: %zu limits, %zu unknowns, %u iterations, %.3f s\n",
                            round, p.cones.size(), unknowns.size(), r.iterations, r.seconds);
@@ -275,12 +277,27 @@ namespace nlmech
         // Check every limit left out; add the violated and nearly active ones (with the same
         // margin as the first screening, so that few rounds follow). Once most limits are in, all
         // go in: the full problem's pattern is analysed once and reused from then on.
-        std::size_t added = 0;
+        // The projection pushes stretch outwards ring by ring; the limits that share a vertex
+        // with a newly added one go in too, so that the rounds do not crawl one ring at a time.
+        std::size_t       added = 0;
+        std::vector<char> near_vertex(std::size_t(mass.size()) / 3, 0);
         for (std::size_t i = 0; i < limits.size(); ++i)
           if (!include[i] && image(limits, i, x).norm() >= screening * limits.bound[i])
-            include[i] = 1, ++added;
+            {
+              include[i] = 1, ++added;
+              for (const unsigned int v : limits.vertices[i])
+                near_vertex[v] = 1;
+            }
         if (added == 0)
           break;
+        for (std::size_t i = 0; i < limits.size(); ++i)
+          if (!include[i])
+            for (const unsigned int v : limits.vertices[i])
+              if (near_vertex[v])
+                {
+                  include[i] = 1;
+                  break;
+                }
         if (2 * std::size_t(std::count(include.begin(), include.end(), 1)) > limits.size())
           std::fill(include.begin(), include.end(), 1);
       }
