@@ -228,14 +228,19 @@ namespace nlmech
     for (const auto &f : fixed)
       x[Eigen::Index(f.first)] = f.second;
     // A candidate that meets every limit is its own projection.
-    if (max_violation(limits, x) <= 0)
+    // The limits within 0.1 % of their bound at x, screened in by the next projection.
+    auto remember_active = [&]() {
+      previously_active.resize(limits.size());
+      for (std::size_t i = 0; i < limits.size(); ++i)
+        previously_active[i] = image(limits, i, x).norm() >= (1 - 1e-3) * limits.bound[i];
+    };
+    const double candidate_violation = max_violation(limits, x);
+    if (candidate_violation <= 0)
       {
-        previously_active.assign(limits.size(), 0);
-        for (std::size_t i = 0; i < limits.size(); ++i)
-          previously_active[i] = image(limits, i, x).norm() >= (1 - 1e-3) * limits.bound[i];
+        remember_active();
         result.status    = ConicStatus::solved;
+        result.violation = candidate_violation;
         result.seconds   = since(started);
-        result.violation = max_violation(limits, x);
         return result;
       }
     // The limits in the first cone problem.
@@ -301,8 +306,7 @@ namespace nlmech
         if (2 * std::size_t(std::count(include.begin(), include.end(), 1)) > limits.size())
           std::fill(include.begin(), include.end(), 1);
       }
-    for (std::size_t i = 0; i < limits.size(); ++i)
-      previously_active[i] = image(limits, i, x).norm() >= (1 - 1e-3) * limits.bound[i];
+    remember_active();
     if (result.status == ConicStatus::solved || result.status == ConicStatus::almost_solved)
       {
         result.violation = max_violation(limits, x);
