@@ -504,6 +504,8 @@ namespace nlmech
         newton(d, dx, ds, dz);
         const double alpha = std::min(1.0, settings.step_fraction * max_step(ds, dz));
         x += alpha * dx, s += alpha * ds, z += alpha * dz;
+        if (std::getenv("NLMECH_SOCP_DEBUG"))
+          std::fprintf(stderr, "socp    affine step %.3f sigma %.2e step %.3f\n", alpha_a, sigma, alpha);
         if (alpha < 1e-10)
           break; // stalled
       }
