@@ -5,6 +5,8 @@
 #include <Eigen/CholmodSupport>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace nlmech
@@ -138,9 +140,19 @@ namespace nlmech
         // No decrease at round-off level: the gradient is as small as double precision allows.
         if (!accepted && g.norm() <= 1e-8 * g0)
           return result;
+        if (std::getenv("NLMECH_NEWTON_DEBUG"))
+          std::fprintf(stderr, "newton it %3u energy %.12e |g| %.3e safe %.3e alpha %.3e shift %.2e |dx| %.3e\n",
+                       result.iterations, energy, g.norm(), safe, accepted ? alpha : 0.0, shift, dx.norm());
         AssertThrow(accepted, dealii::ExcMessage("Newton: the line search found no decrease (gradient norm " +
                                                  std::to_string(g.norm()) + ")."));
         g = free_gradient(x);
+        if (settings.step_tolerance > 0 && alpha == 1.0 && dx.lpNorm<Eigen::Infinity>() <= settings.step_tolerance)
+          {
+            ++result.iterations;
+            result.gradient_norm = g.norm();
+            result.energy        = energy;
+            return result;
+          }
       }
   }
 } // namespace nlmech

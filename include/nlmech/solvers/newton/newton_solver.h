@@ -16,6 +16,10 @@ namespace nlmech
     double       absolute_tolerance = 1e-14; // on |g_free|
     unsigned int max_iterations     = 50;
     unsigned int max_line_search    = 40;
+    /// Also converged when a full Newton step is accepted whose largest entry is at most this (0:
+    /// off). Barrier problems need it: their gradient stalls at a round-off level set by the barrier's
+    /// curvature, far above any useful absolute tolerance.
+    double step_tolerance = 0;
   };
 
   struct NewtonResult

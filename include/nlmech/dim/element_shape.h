@@ -1,0 +1,51 @@
+#pragma once
+// The geometry of one rigid interlocking element in its body frame, as swept-sphere primitives:
+// segments (a tube of radius r around a centreline segment) and triangles (a slab of half-thickness
+// r around a flat triangle). Tubes around polyline centrelines give exact distances for segment
+// chains; circles are sampled by polygons whose vertices lie on the circle (the chords are inside
+// it by at most R (1 - cos(pi / N)), stated by `centreline_error`). Lengths in millimetres.
+
+#include <Eigen/Core>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace nlmech::dim
+{
+  struct ElementShape
+  {
+    std::string                          name;
+    std::vector<Eigen::Vector3d>         points; // body frame, centre of mass at the origin
+    std::vector<std::array<unsigned, 2>> segments;
+    std::vector<double>                  segment_radius;
+    std::vector<std::array<unsigned, 3>> triangles;
+    std::vector<double>                  triangle_radius;
+    double                               mass              = 0; // kg
+    double                               centreline_error  = 0; // mm, polygon vs exact curve
+    /// Largest distance of any surface point from the body origin (points plus radius).
+    double bounding_radius() const;
+    /// Centre of mass of the primitives (uniform density); the generators move it to the origin.
+    Eigen::Vector3d centroid() const;
+    /// Volume of the primitives (tubes pi r^2 l, slabs 2 r A; overlaps counted twice) [mm^3].
+    double volume() const;
+  };
+
+  /// A ring: circle of radius R in the body xy plane, tube radius r, N segments. Requires r < R.
+  ElementShape torus_ring(double R, double r, unsigned int N, double density);
+
+  /// A (p, q) torus-knot tube: ((R + a cos q t) cos p t, (R + a cos q t) sin p t, -a sin q t),
+  /// t in [0, 2 pi), tube radius r, N segments. Requires gcd(p, q) = 1, a < R.
+  ElementShape torus_knot(unsigned int p, unsigned int q, double R, double a, double r, unsigned int N,
+                          double density);
+
+  /// A scale-mail element: a ring (R, r, N segments) with a flat hexagonal plate of circumradius
+  /// `plate_radius` and thickness `plate_thickness` held at height `plate_height` above the ring's
+  /// plane on one side (so the element is not symmetric through its thickness), joined to the ring
+  /// by three struts of the ring's tube radius.
+  ElementShape scale_mail_element(double R, double r, unsigned int N, double plate_radius, double plate_thickness,
+                                  double plate_height, double density);
+
+  /// Moves the shape's points so that its centre of mass is at the origin (returns the shift).
+  Eigen::Vector3d centre_shape(ElementShape &shape);
+} // namespace nlmech::dim

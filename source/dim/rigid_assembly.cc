@@ -1,0 +1,566 @@
+#include <deal.II/base/exceptions.h>
+
+#include <nlmech/dim/rigid_assembly.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace nlmech::dim
+{
+  namespace
+  {
+    using Gradient = Sacado::Fad::SFad<double, 15>;
+    using Hessian  = Sacado::Fad::SFad<Gradient, 15>;
+
+    Eigen::Vector3d to_eigen(const Point<double> &p) { return {p[0], p[1], p[2]}; }
+
+    /// Bounding sphere of a primitive's points in the world (centre, radius without the sweep).
+    template <std::size_t N>
+    std::pair<Eigen::Vector3d, double> sphere(const std::vector<Eigen::Vector3d> &x, const std::array<unsigned, N> &ids)
+    {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (const unsigned i : ids)
+        c += x[i];
+      c /= double(N);
+      double r = 0;
+      for (const unsigned i : ids)
+        r = std::max(r, (x[i] - c).norm());
+      return {c, r};
+    }
+  } // namespace
+
+  RigidAssembly::RigidAssembly(std::vector<ElementShape> shapes_in, std::vector<unsigned int> shape_of_body,
+                               const Placement placement)
+      : shapes(std::move(shapes_in))
+      , shape_of(std::move(shape_of_body))
+      , place(placement)
+  {
+    AssertThrow(!shape_of.empty(), dealii::ExcMessage("Rigid assembly: there are no elements."));
+    for (const unsigned s : shape_of)
+      AssertThrow(s < shapes.size(), dealii::ExcMessage("Rigid assembly: an element refers to an unknown shape."));
+    for (const auto &shape : shapes)
+      {
+        Primitives p;
+        std::set<std::pair<unsigned, unsigned>> edges;
+        std::set<std::pair<unsigned, double>>   vertices;
+        for (std::size_t s = 0; s < shape.segments.size(); ++s)
+          {
+            const auto [i, j] = shape.segments[s];
+            if (edges.insert({std::min(i, j), std::max(i, j)}).second)
+              p.edges.push_back({i, j}), p.edge_radius.push_back(shape.segment_radius[s]);
+            vertices.insert({i, shape.segment_radius[s]}), vertices.insert({j, shape.segment_radius[s]});
+          }
+        for (std::size_t t = 0; t < shape.triangles.size(); ++t)
+          {
+            const auto &tri = shape.triangles[t];
+            p.faces.push_back(tri), p.face_radius.push_back(shape.triangle_radius[t]);
+            for (unsigned k = 0; k < 3; ++k)
+              {
+                const unsigned i = tri[k], j = tri[(k + 1) % 3];
+                if (edges.insert({std::min(i, j), std::max(i, j)}).second)
+                  p.edges.push_back({i, j}), p.edge_radius.push_back(shape.triangle_radius[t]);
+                vertices.insert({i, shape.triangle_radius[t]});
+              }
+          }
+        p.vertices.assign(vertices.begin(), vertices.end());
+        primitives.push_back(std::move(p));
+        double rho = 0;
+        for (const auto &x : shape.points)
+          rho = std::max(rho, x.norm());
+        reach_radius.push_back(rho);
+      }
+  }
+
+  void RigidAssembly::set_lattice(const Eigen::Vector2d &t1, const Eigen::Vector2d &t2,
+                                  const std::vector<Eigen::Matrix2d> &strain_basis)
+  {
+    AssertThrow(place == Placement::periodic, dealii::ExcMessage("Rigid assembly: a lattice needs periodic placement."));
+    AssertThrow(std::abs(t1[0] * t2[1] - t1[1] * t2[0]) > 1e-12 * t1.squaredNorm(),
+                dealii::ExcMessage("Periodic cell: the two lattice vectors are parallel."));
+    AssertThrow(strain_basis.size() <= 3, dealii::ExcMessage("Periodic cell: at most three strain parameters."));
+    tbar1 = t1, tbar2 = t2, basis = strain_basis;
+  }
+
+  std::size_t RigidAssembly::n_parameters() const
+  {
+    return place == Placement::periodic ? basis.size() : place == Placement::paraboloid ? 3 : 0;
+  }
+
+  Eigen::Matrix3d RigidAssembly::rotation(const Eigen::Vector3d &omega)
+  {
+    Eigen::Matrix3d R;
+    for (int k = 0; k < 3; ++k)
+      R.col(k) = to_eigen(rotate(omega.data(), Eigen::Vector3d::Unit(k)));
+    return R;
+  }
+
+  Eigen::Vector3d RigidAssembly::world_point(const Eigen::VectorXd &q, const unsigned int body,
+                                             const Eigen::Vector3d &p, const std::array<int, 2> image) const
+  {
+    const double *parameters = n_parameters() > 0 ? q.data() + parameter_index(0) : nullptr;
+    return to_eigen(world_point<double>(q.data() + 6 * body, parameters, image, p));
+  }
+
+  Eigen::Vector3d RigidAssembly::centre(const Eigen::VectorXd &q, const unsigned int body,
+                                        const std::array<int, 2> image) const
+  {
+    return world_point(q, body, Eigen::Vector3d::Zero(), image);
+  }
+
+  Eigen::Matrix2d RigidAssembly::stretch(const Eigen::VectorXd &q) const
+  {
+    Eigen::Matrix2d U = Eigen::Matrix2d::Identity();
+    if (place == Placement::periodic)
+      for (std::size_t j = 0; j < basis.size(); ++j)
+        U += q[parameter_index(j)] * basis[j];
+    return U;
+  }
+
+  Eigen::Vector2d RigidAssembly::lattice_vector(const Eigen::VectorXd &q, const unsigned int k) const
+  {
+    return stretch(q) * (k == 0 ? tbar1 : tbar2);
+  }
+
+  int RigidAssembly::image_range() const
+  {
+    if (place != Placement::periodic)
+      return 0;
+    double rho = 0;
+    for (const auto &s : shapes)
+      rho = std::max(rho, s.bounding_radius());
+    // Heights of the cell over each lattice vector bound how many images a body can reach.
+    const double area = std::abs(tbar1[0] * tbar2[1] - tbar1[1] * tbar2[0]);
+    const double h    = std::min(area / tbar1.norm(), area / tbar2.norm());
+    return 1 + int(std::ceil(3 * rho / h));
+  }
+
+  std::vector<std::tuple<unsigned, unsigned, std::array<int, 2>>>
+  RigidAssembly::body_pairs(const Eigen::VectorXd &q, const double reach) const
+  {
+    std::vector<std::tuple<unsigned, unsigned, std::array<int, 2>>> pairs;
+    const int                                                       range = image_range();
+    for (unsigned a = 0; a < n_bodies(); ++a)
+      for (unsigned b = a; b < n_bodies(); ++b)
+        for (int i = -range; i <= range; ++i)
+          for (int j = -range; j <= range; ++j)
+            {
+              if (a == b && (i < 0 || (i == 0 && j <= 0)))
+                continue; // a body against itself only through a positive image
+              const std::array<int, 2> image{i, j};
+              const double             gap = (centre(q, a) - centre(q, b, image)).norm() -
+                                 shape(a).bounding_radius() - shape(b).bounding_radius();
+              if (gap < reach)
+                pairs.emplace_back(a, b, image);
+            }
+    return pairs;
+  }
+
+  std::vector<ContactPair> RigidAssembly::contact_pairs(const Eigen::VectorXd &q, const double reach) const
+  {
+    std::vector<ContactPair> result;
+    for (const auto &[a, b, image] : body_pairs(q, reach))
+      {
+        const auto            &sa = shape(a), &sb = shape(b);
+        const auto            &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
+        std::vector<Eigen::Vector3d> xa, xb;
+        for (const auto &p : sa.points)
+          xa.push_back(world_point(q, a, p));
+        for (const auto &p : sb.points)
+          xb.push_back(world_point(q, b, p, image));
+        auto add = [&](const ClosestType &c, const std::array<Eigen::Vector3d, 4> &points,
+                       const std::array<unsigned char, 4> &owner, const double radius_sum) {
+          const double gap = std::sqrt(c.squared_distance) - radius_sum;
+          if (!(gap < reach))
+            return;
+          ContactPair pair;
+          pair.body_a = a, pair.body_b = b, pair.image = image, pair.type = c.type;
+          pair.radius_sum = radius_sum, pair.gap = gap;
+          for (unsigned k = 0; k < 4; ++k)
+            pair.body_points[k] = points[c.points[k]], pair.owner[k] = owner[c.points[k]];
+          result.push_back(pair);
+        };
+        std::vector<std::pair<Eigen::Vector3d, double>> spheres_b;
+        for (const auto &e : pb.edges)
+          spheres_b.push_back(sphere(xb, e));
+        for (std::size_t ea = 0; ea < pa.edges.size(); ++ea)
+          {
+            const auto [ca, ra] = sphere(xa, pa.edges[ea]);
+            for (std::size_t eb = 0; eb < pb.edges.size(); ++eb)
+              {
+                const double rs = pa.edge_radius[ea] + pb.edge_radius[eb];
+                if ((ca - spheres_b[eb].first).norm() - ra - spheres_b[eb].second - rs >= reach)
+                  continue;
+                const auto &[i0, i1] = pa.edges[ea];
+                const auto &[j0, j1] = pb.edges[eb];
+                add(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]),
+                    {sa.points[i0], sa.points[i1], sb.points[j0], sb.points[j1]}, {0, 0, 1, 1}, rs);
+              }
+          }
+        // Points of one element against the faces of the other (both ways).
+        for (int side = 0; side < 2; ++side)
+          {
+            const auto &pv = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
+            const auto &xv = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
+            const auto &sv = side == 0 ? sa : sb, &sf = side == 0 ? sb : sa;
+            const unsigned char ov = side == 0 ? 0 : 1, of = side == 0 ? 1 : 0;
+            for (std::size_t f = 0; f < pf.faces.size(); ++f)
+              {
+                const auto [cf, rf] = sphere(xf, pf.faces[f]);
+                const auto &[t0, t1, t2] = pf.faces[f];
+                for (const auto &[v, rv] : pv.vertices)
+                  {
+                    const double rs = rv + pf.face_radius[f];
+                    if ((xv[v] - cf).norm() - rf - rs >= reach)
+                      continue;
+                    add(point_triangle_type(xv[v], xf[t0], xf[t1], xf[t2]),
+                        {sv.points[v], sf.points[t0], sf.points[t1], sf.points[t2]}, {ov, of, of, of}, rs);
+                  }
+              }
+          }
+      }
+    return result;
+  }
+
+  double RigidAssembly::exact_gap(const Eigen::VectorXd &q, const unsigned a, const unsigned b,
+                                  const std::array<int, 2> &image) const
+  {
+    const auto                  &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
+    std::vector<Eigen::Vector3d> xa, xb;
+    for (const auto &p : shape(a).points)
+      xa.push_back(world_point(q, a, p));
+    for (const auto &p : shape(b).points)
+      xb.push_back(world_point(q, b, p, image));
+    double gap = std::numeric_limits<double>::infinity();
+    for (std::size_t ea = 0; ea < pa.edges.size(); ++ea)
+      for (std::size_t eb = 0; eb < pb.edges.size(); ++eb)
+        {
+          const auto &[i0, i1] = pa.edges[ea];
+          const auto &[j0, j1] = pb.edges[eb];
+          gap = std::min(gap, std::sqrt(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]).squared_distance) -
+                                  pa.edge_radius[ea] - pb.edge_radius[eb]);
+        }
+    // Edges against faces, both ways (a crossing gives distance 0, so the gap is minus the radii).
+    for (int side = 0; side < 2; ++side)
+      {
+        const auto &pe = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
+        const auto &xe = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
+        for (std::size_t e = 0; e < pe.edges.size(); ++e)
+          for (std::size_t f = 0; f < pf.faces.size(); ++f)
+            {
+              const auto &[t0, t1, t2] = pf.faces[f];
+              gap = std::min(gap, segment_triangle_distance(xe[pe.edges[e][0]], xe[pe.edges[e][1]], xf[t0], xf[t1],
+                                                            xf[t2]) -
+                                      pe.edge_radius[e] - pf.face_radius[f]);
+            }
+      }
+    return gap;
+  }
+
+  RigidAssembly::Gap RigidAssembly::smallest_gap(const Eigen::VectorXd &q, const double reach) const
+  {
+    Gap best;
+    for (const auto &[a, b, image] : body_pairs(q, reach))
+      {
+        const double gap = exact_gap(q, a, b, image);
+        if (gap < best.gap)
+          best.gap = gap, best.body_a = a, best.body_b = b, best.image = image;
+      }
+    return best;
+  }
+
+  double RigidAssembly::max_safe_step(const Eigen::VectorXd &q, const Eigen::VectorXd &dq, const double separation,
+                                      const double keep) const
+  {
+    // Bound on the speed (per unit step) of every point of body b's image: centre, rotation about it
+    // (|d/dt R(omega + t domega) p| <= |domega| |p|, the exponential map's Jacobian has norm <= 1),
+    // the stretched lattice offset, the paraboloid's height.
+    std::vector<double> speed(n_bodies());
+    for (unsigned b = 0; b < n_bodies(); ++b)
+      {
+        double v = dq.segment<3>(6 * b).norm() + dq.segment<3>(6 * b + 3).norm() * reach_radius[shape_of[b]];
+        if (place == Placement::paraboloid)
+          {
+            const std::size_t k  = parameter_index(0);
+            const double      x  = std::abs(q[6 * b]) + std::abs(dq[6 * b]);
+            const double      y  = std::abs(q[6 * b + 1]) + std::abs(dq[6 * b + 1]);
+            const double      A  = std::abs(q[k]) + std::abs(dq[k]), B = std::abs(q[k + 1]) + std::abs(dq[k + 1]),
+                         C = std::abs(q[k + 2]) + std::abs(dq[k + 2]);
+            const double dx = std::abs(dq[6 * b]), dy = std::abs(dq[6 * b + 1]);
+            v += std::abs(dq[k]) * x * x + 2 * A * x * dx + std::abs(dq[k + 1]) * y * y + 2 * B * y * dy +
+                 std::abs(dq[k + 2]) * x * y + C * (dx * y + x * dy);
+          }
+        speed[b] = v;
+      }
+    auto image_speed = [&](const std::array<int, 2> &image) {
+      if (place != Placement::periodic || (image[0] == 0 && image[1] == 0))
+        return 0.0;
+      const Eigen::Vector2d o = image[0] * tbar1 + image[1] * tbar2;
+      Eigen::Vector2d       v = Eigen::Vector2d::Zero();
+      for (std::size_t j = 0; j < basis.size(); ++j)
+        v += dq[parameter_index(j)] * basis[j] * o;
+      return v.norm();
+    };
+    const double max_speed = *std::max_element(speed.begin(), speed.end());
+    double       reach     = 2 * max_speed + separation;
+    if (place == Placement::periodic)
+      reach += image_speed({image_range(), image_range()}) * 2;
+    // The body pairs that can meet during the step, with their gaps at its start.
+    struct Candidate
+    {
+      unsigned           a, b;
+      std::array<int, 2> image;
+      double             speed, start_gap;
+    };
+    std::vector<Candidate> candidates;
+    for (const auto &[a, b, image] : body_pairs(q, reach))
+      {
+        const double v = speed[a] + speed[b] + image_speed(image);
+        if (v > 0)
+          candidates.push_back({a, b, image, v, 0});
+      }
+    if (candidates.empty())
+      return 1.0;
+    auto pair_gap = [&](const Eigen::VectorXd &x, const Candidate &c) {
+      return exact_gap(x, c.a, c.b, c.image) - separation;
+    };
+    for (auto &c : candidates)
+      c.start_gap = pair_gap(q, c);
+    double alpha = 0;
+    for (unsigned iteration = 0; iteration < 100; ++iteration)
+      {
+        const Eigen::VectorXd x    = q + alpha * dq;
+        double                step = std::numeric_limits<double>::infinity();
+        for (const auto &c : candidates)
+          {
+            const double g = alpha == 0 ? c.start_gap : pair_gap(x, c);
+            const double floor = keep * c.start_gap;
+            if (g <= floor)
+              return alpha;
+            step = std::min(step, (g - floor) / c.speed);
+          }
+        if (alpha + step >= 1)
+          return 1.0;
+        alpha += step;
+        if (step < 1e-9)
+          break;
+      }
+    return alpha;
+  }
+
+  // ---------------------------------------------------------------------------------------------
+
+  ContactBarrier::ContactBarrier(std::shared_ptr<const RigidAssembly> assembly_in, const ContactSettings settings)
+      : assembly(std::move(assembly_in))
+      , contact(settings)
+  {
+    AssertThrow(contact.dhat > 0 && contact.kappa > 0,
+                dealii::ExcMessage("Contact: the barrier gap dhat and stiffness kappa must be positive."));
+    AssertThrow(contact.separation >= 0, dealii::ExcMessage("Contact: the minimum separation must not be negative."));
+  }
+
+  std::array<long, 15> ContactBarrier::pair_dofs(const ContactPair &pair) const
+  {
+    std::array<long, 15> dofs;
+    dofs.fill(-1);
+    for (unsigned k = 0; k < 6; ++k)
+      dofs[k] = 6 * pair.body_a + k, dofs[6 + k] = 6 * pair.body_b + k;
+    for (unsigned j = 0; j < assembly->n_parameters(); ++j)
+      dofs[12 + j] = assembly->parameter_index(j);
+    return dofs;
+  }
+
+  template <typename S>
+  S ContactBarrier::pair_energy(const ContactPair &pair, const std::array<S, 15> &v) const
+  {
+    using std::sqrt;
+    std::array<Point<S>, 4> x;
+    for (unsigned k = 0; k < 4; ++k)
+      x[k] = assembly->world_point(pair.owner[k] == 0 ? &v[0] : &v[6], &v[12],
+                                   pair.owner[k] == 0 ? std::array<int, 2>{0, 0} : pair.image, pair.body_points[k]);
+    const S d = sqrt(squared_distance(pair.type, x)) - pair.radius_sum;
+    return barrier(d, contact.dhat, contact.kappa);
+  }
+
+  double ContactBarrier::value(const Eigen::VectorXd &q) const
+  {
+    double total = 0;
+    for (const auto &pair : assembly->contact_pairs(q, contact.dhat + contact.separation))
+      {
+        ContactPair p = pair;
+        p.radius_sum += contact.separation;
+        const auto              dofs = pair_dofs(p);
+        std::array<double, 15> v{};
+        for (unsigned k = 0; k < 15; ++k)
+          v[k] = dofs[k] >= 0 ? q[dofs[k]] : 0.0;
+        total += pair_energy(p, v);
+      }
+    return total;
+  }
+
+  void ContactBarrier::add_gradient(const Eigen::VectorXd &q, Eigen::VectorXd &g) const
+  {
+    for (const auto &pair : assembly->contact_pairs(q, contact.dhat + contact.separation))
+      {
+        ContactPair p = pair;
+        p.radius_sum += contact.separation;
+        const auto               dofs = pair_dofs(p);
+        std::array<Gradient, 15> v;
+        for (unsigned k = 0; k < 15; ++k)
+          v[k] = Gradient(15, k, dofs[k] >= 0 ? q[dofs[k]] : 0.0);
+        const Gradient e = pair_energy(p, v);
+        for (unsigned k = 0; k < 15; ++k)
+          if (dofs[k] >= 0)
+            g[dofs[k]] += e.dx(k);
+      }
+  }
+
+  void ContactBarrier::add_hessian(const Eigen::VectorXd &q, Triplets &h) const
+  {
+    for (const auto &pair : assembly->contact_pairs(q, contact.dhat + contact.separation))
+      {
+        ContactPair p = pair;
+        p.radius_sum += contact.separation;
+        const auto              dofs = pair_dofs(p);
+        std::array<Hessian, 15> v;
+        for (unsigned k = 0; k < 15; ++k)
+          v[k] = Hessian(15, k, Gradient(15, k, dofs[k] >= 0 ? q[dofs[k]] : 0.0));
+        const Hessian   e = pair_energy(p, v);
+        Eigen::Matrix<double, 15, 15> H;
+        for (unsigned i = 0; i < 15; ++i)
+          for (unsigned j = 0; j < 15; ++j)
+            H(i, j) = e.dx(i).dx(j);
+        H = 0.5 * (H + H.transpose()).eval();
+        if (contact.project_hessians)
+          {
+            // Project to positive semi-definite (IPC): clamp negative eigenvalues to zero.
+            Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> eig(H);
+            const auto lambda = eig.eigenvalues().cwiseMax(0.0);
+            H                 = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+          }
+        for (unsigned i = 0; i < 15; ++i)
+          for (unsigned j = 0; j < 15; ++j)
+            if (dofs[i] >= 0 && dofs[j] >= 0 && H(i, j) != 0)
+              h.emplace_back(dofs[i], dofs[j], H(i, j));
+      }
+  }
+
+  bool ContactBarrier::is_valid(const Eigen::VectorXd &q) const
+  {
+    if (!q.allFinite())
+      return false;
+    return assembly->smallest_gap(q, contact.separation + contact.dhat).gap > contact.separation;
+  }
+
+  double ContactBarrier::max_safe_step(const Eigen::VectorXd &q, const Eigen::VectorXd &dq) const
+  {
+    return assembly->max_safe_step(q, dq, contact.separation);
+  }
+
+  // ---------------------------------------------------------------------------------------------
+
+  CentreForces::CentreForces(std::shared_ptr<const RigidAssembly> assembly_in, std::vector<Eigen::Vector3d> f)
+      : assembly(std::move(assembly_in))
+      , forces(std::move(f))
+  {
+    AssertThrow(forces.size() == assembly->n_bodies(),
+                dealii::ExcMessage("Centre forces: one force per element is needed."));
+  }
+
+  namespace
+  {
+    using CentreGradient = Sacado::Fad::SFad<double, 9>;
+    using CentreHessian  = Sacado::Fad::SFad<CentreGradient, 9>;
+    template <typename S>
+    S centre_work(const RigidAssembly &assembly, const std::array<S, 9> &v, const Eigen::Vector3d &f)
+    {
+      const Point<S> c = assembly.world_point(&v[0], &v[6], {0, 0}, Eigen::Vector3d::Zero());
+      return -(f[0] * c[0] + f[1] * c[1] + f[2] * c[2]);
+    }
+  } // namespace
+
+  double CentreForces::value(const Eigen::VectorXd &q) const
+  {
+    double total = 0;
+    for (unsigned b = 0; b < assembly->n_bodies(); ++b)
+      total -= forces[b].dot(assembly->centre(q, b));
+    return total;
+  }
+
+  void CentreForces::add_gradient(const Eigen::VectorXd &q, Eigen::VectorXd &g) const
+  {
+    const std::size_t np = assembly->n_parameters();
+    for (unsigned b = 0; b < assembly->n_bodies(); ++b)
+      {
+        if (forces[b].squaredNorm() == 0)
+          continue;
+        std::array<CentreGradient, 9> v;
+        for (unsigned k = 0; k < 9; ++k)
+          v[k] = CentreGradient(9, k, k < 6 ? q[6 * b + k] : k - 6 < np ? q[assembly->parameter_index(k - 6)] : 0.0);
+        const CentreGradient e = centre_work(*assembly, v, forces[b]);
+        for (unsigned k = 0; k < 6; ++k)
+          g[6 * b + k] += e.dx(k);
+        for (unsigned k = 0; k < np && k < 3; ++k)
+          g[assembly->parameter_index(k)] += e.dx(6 + k);
+      }
+  }
+
+  void CentreForces::add_hessian(const Eigen::VectorXd &q, Triplets &h) const
+  {
+    if (assembly->placement() != Placement::paraboloid)
+      return; // linear in the unknowns
+    const std::size_t np = assembly->n_parameters();
+    for (unsigned b = 0; b < assembly->n_bodies(); ++b)
+      {
+        if (forces[b].squaredNorm() == 0)
+          continue;
+        std::array<CentreHessian, 9> v;
+        std::array<long, 9>          dofs;
+        for (unsigned k = 0; k < 9; ++k)
+          {
+            dofs[k] = k < 6 ? long(6 * b + k) : long(assembly->parameter_index(k - 6));
+            v[k]    = CentreHessian(9, k, CentreGradient(9, k, k < 6 || k - 6 < np ? q[dofs[k]] : 0.0));
+          }
+        const CentreHessian e = centre_work(*assembly, v, forces[b]);
+        for (unsigned i = 0; i < 9; ++i)
+          for (unsigned j = 0; j < 9; ++j)
+            if (e.dx(i).dx(j) != 0)
+              h.emplace_back(dofs[i], dofs[j], e.dx(i).dx(j));
+      }
+  }
+
+  // ---------------------------------------------------------------------------------------------
+
+  ParameterTarget::ParameterTarget(const std::size_t first_index, std::vector<double> t, std::vector<double> w)
+      : first(first_index)
+      , targets(std::move(t))
+      , weights(std::move(w))
+  {
+    AssertThrow(targets.size() == weights.size(),
+                dealii::ExcMessage("Parameter target: one weight per target is needed."));
+  }
+
+  double ParameterTarget::value(const Eigen::VectorXd &q) const
+  {
+    double e = 0;
+    for (std::size_t j = 0; j < targets.size(); ++j)
+      e += 0.5 * weights[j] * std::pow(q[first + j] - targets[j], 2);
+    return e;
+  }
+
+  void ParameterTarget::add_gradient(const Eigen::VectorXd &q, Eigen::VectorXd &g) const
+  {
+    for (std::size_t j = 0; j < targets.size(); ++j)
+      g[first + j] += weights[j] * (q[first + j] - targets[j]);
+  }
+
+  void ParameterTarget::add_hessian(const Eigen::VectorXd &, Triplets &h) const
+  {
+    for (std::size_t j = 0; j < targets.size(); ++j)
+      h.emplace_back(first + j, first + j, weights[j]);
+  }
+} // namespace nlmech::dim
