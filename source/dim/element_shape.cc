@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -15,7 +16,11 @@ namespace nlmech::dim
     {
       const unsigned int first = shape.points.size();
       for (const auto &p : points)
-        shape.points.push_back(p);
+        {
+          if (shape.loop.size() < points.size() && first == 0)
+            shape.loop.push_back(shape.points.size());
+          shape.points.push_back(p);
+        }
       for (unsigned int i = 0; i < points.size(); ++i)
         {
           shape.segments.push_back({{first + i, first + (i + 1) % unsigned(points.size())}});
@@ -130,17 +135,43 @@ namespace nlmech::dim
     return shape;
   }
 
-  ElementShape scale_mail_element(const double R, const double r, const unsigned int N, const double plate_radius,
-                                  const double plate_thickness, const double plate_height, const double density)
+  ElementShape wave_ring(const double R, const double r, const double h, const unsigned int k, const double phase,
+                         const unsigned int N, const double density)
   {
-    AssertThrow(R > 0 && r > 0 && r < R, dealii::ExcMessage("Scale mail: needs 0 < tube radius r < ring radius R."));
+    AssertThrow(R > 0 && r > 0 && r < R, dealii::ExcMessage("Wave ring: needs 0 < tube radius r < ring radius R."));
+    AssertThrow(h >= 0, dealii::ExcMessage("Wave ring: the wave height must not be negative."));
+    AssertThrow(N >= std::max(8u, 8 * k), dealii::ExcMessage("Wave ring: needs at least 8 k centreline segments."));
+    auto curve = [&](const double t) {
+      return Eigen::Vector3d(R * std::cos(t), R * std::sin(t), h * std::cos(k * (t - phase)));
+    };
+    std::vector<Eigen::Vector3d> points;
+    double                       worst_chord = 0;
+    for (unsigned int i = 0; i < N; ++i)
+      {
+        const double t0 = 2 * M_PI * i / N, t1 = 2 * M_PI * (i + 1) / N;
+        points.push_back(curve(t0));
+        worst_chord = std::max(worst_chord, (curve(0.5 * (t0 + t1)) - 0.5 * (curve(t0) + curve(t1))).norm());
+      }
+    ElementShape shape;
+    shape.name = h > 0 ? "wave ring (k = " + std::to_string(k) + ")" : "torus ring";
+    add_closed_polyline(shape, points, r);
+    shape.centreline_error = worst_chord;
+    shape.mass             = density * shape.volume();
+    centre_shape(shape);
+    return shape;
+  }
+
+  ElementShape scale_mail_element(const double R, const double r, const double h, const unsigned int N,
+                                  const double plate_radius, const double plate_thickness, const double plate_height,
+                                  const double density)
+  {
     AssertThrow(plate_radius > 0 && plate_thickness > 0,
                 dealii::ExcMessage("Scale mail: the plate needs a positive radius and thickness."));
-    AssertThrow(plate_height > r + 0.5 * plate_thickness,
-                dealii::ExcMessage("Scale mail: the plate must sit above the ring (plate height > r + thickness/2)."));
-    ElementShape shape;
+    AssertThrow(plate_height > h + r + 0.5 * plate_thickness,
+                dealii::ExcMessage("Scale mail: the plate must clear the base ring (plate height > h + r + "
+                                   "thickness / 2)."));
+    ElementShape shape = wave_ring(R, r, h, 6, M_PI / 12, N, density);
     shape.name = "scale mail";
-    add_closed_polyline(shape, circle(R, N), r);
     // Hexagonal plate: a fan of six triangles around its centre, swept by half the thickness.
     const unsigned int centre = shape.points.size();
     shape.points.emplace_back(0, 0, plate_height);
@@ -154,19 +185,37 @@ namespace nlmech::dim
         shape.triangles.push_back({{centre, centre + 1 + k, centre + 1 + (k + 1) % 6}});
         shape.triangle_radius.push_back(0.5 * plate_thickness);
       }
-    // Three struts from the ring up to the plate's underside.
-    for (unsigned int k = 0; k < 3; ++k)
-      {
-        const unsigned int ring_point = (k * N) / 3;
-        const unsigned int top        = shape.points.size();
-        const double       t          = 2 * M_PI * ring_point / N;
-        shape.points.emplace_back(0.5 * R * std::cos(t), 0.5 * R * std::sin(t), plate_height);
-        shape.segments.push_back({{ring_point, top}});
-        shape.segment_radius.push_back(r);
-      }
-    shape.centreline_error = R * (1 - std::cos(M_PI / N));
-    shape.mass             = density * shape.volume();
+    shape.mass = density * shape.volume();
     centre_shape(shape);
     return shape;
+  }
+
+  int linking_number(const std::vector<Eigen::Vector3d> &a, const std::vector<Eigen::Vector3d> &b)
+  {
+    double total = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (std::size_t j = 0; j < b.size(); ++j)
+        {
+          const Eigen::Vector3d &p1 = a[i], &p2 = a[(i + 1) % a.size()], &p3 = b[j], &p4 = b[(j + 1) % b.size()];
+          const Eigen::Vector3d  r13 = p3 - p1, r14 = p4 - p1, r23 = p3 - p2, r24 = p4 - p2;
+          Eigen::Vector3d        n[4] = {r13.cross(r14), r14.cross(r24), r24.cross(r23), r23.cross(r13)};
+          bool                   degenerate = false;
+          for (auto &v : n)
+            {
+              const double l = v.norm();
+              if (l < 1e-300)
+                degenerate = true;
+              else
+                v /= l;
+            }
+          if (degenerate)
+            continue;
+          double omega = 0;
+          for (int k = 0; k < 4; ++k)
+            omega += std::asin(std::clamp(n[k].dot(n[(k + 1) % 4]), -1.0, 1.0));
+          const double sign = ((p4 - p3).cross(p2 - p1)).dot(r13);
+          total += sign > 0 ? omega : sign < 0 ? -omega : 0;
+        }
+    return int(std::lround(total / (4 * M_PI)));
   }
 } // namespace nlmech::dim

@@ -122,7 +122,7 @@ TEST(ContactBarrier, DerivativesWithSeparationAndPlatesMatchFiniteDifferences)
 {
   // Scale-mail elements: plate faces against plate points (point-plane pairs) and ring tubes, with
   // a print clearance of 0.05 mm.
-  auto shape    = scale_mail_element(3, 0.6, 24, 3.4, 0.6, 1.6, 1e-6);
+  auto shape    = scale_mail_element(3, 0.6, 0.0, 48, 3.4, 0.6, 1.6, 1e-6);
   auto assembly = std::make_shared<RigidAssembly>(std::vector<ElementShape>{shape}, std::vector<unsigned>{0, 0});
   ContactSettings settings;
   settings.dhat             = 0.3;

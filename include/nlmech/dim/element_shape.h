@@ -21,6 +21,7 @@ namespace nlmech::dim
     std::vector<double>                  segment_radius;
     std::vector<std::array<unsigned, 3>> triangles;
     std::vector<double>                  triangle_radius;
+    std::vector<unsigned>                loop; // the closed centreline (for linking numbers)
     double                               mass              = 0; // kg
     double                               centreline_error  = 0; // mm, polygon vs exact curve
     /// Largest distance of any surface point from the body origin (points plus radius).
@@ -34,17 +35,27 @@ namespace nlmech::dim
   /// A ring: circle of radius R in the body xy plane, tube radius r, N segments. Requires r < R.
   ElementShape torus_ring(double R, double r, unsigned int N, double density);
 
+  /// A wavy ring: centreline (R cos t, R sin t, h cos k (t - phase)), tube radius r, N segments.
+  /// With k even, identical wavy rings whose circles overlap are linked (one passes over and under
+  /// the other at the two crossings); k = 6 gives the six-neighbour rings of the threefold chainmail.
+  ElementShape wave_ring(double R, double r, double h, unsigned int k, double phase, unsigned int N, double density);
+
   /// A (p, q) torus-knot tube: ((R + a cos q t) cos p t, (R + a cos q t) sin p t, -a sin q t),
   /// t in [0, 2 pi), tube radius r, N segments. Requires gcd(p, q) = 1, a < R.
   ElementShape torus_knot(unsigned int p, unsigned int q, double R, double a, double r, unsigned int N,
                           double density);
 
-  /// A scale-mail element: a ring (R, r, N segments) with a flat hexagonal plate of circumradius
-  /// `plate_radius` and thickness `plate_thickness` held at height `plate_height` above the ring's
-  /// plane on one side (so the element is not symmetric through its thickness), joined to the ring
-  /// by three struts of the ring's tube radius.
-  ElementShape scale_mail_element(double R, double r, unsigned int N, double plate_radius, double plate_thickness,
-                                  double plate_height, double density);
+  /// A scale-mail element: a base ring (the wavy ring above with k = 6 when h > 0, flat when h = 0)
+  /// with a flat hexagonal plate of circumradius `plate_radius` and thickness `plate_thickness` held
+  /// at height `plate_height` above the ring's plane on one side, so the element is not symmetric
+  /// through its thickness. The plate's flats face the directions 0, 60, ... degrees. The plate is
+  /// rigidly part of the element; its supports are not modelled as contact geometry.
+  ElementShape scale_mail_element(double R, double r, double h, unsigned int N, double plate_radius,
+                                  double plate_thickness, double plate_height, double density);
+
+  /// Linking number of two closed polylines (exact for polylines: the sum of the signed solid
+  /// angles of segment pairs over 4 pi, Klenin and Langowski 2000), rounded to the nearest integer.
+  int linking_number(const std::vector<Eigen::Vector3d> &a, const std::vector<Eigen::Vector3d> &b);
 
   /// Moves the shape's points so that its centre of mass is at the origin (returns the shift).
   Eigen::Vector3d centre_shape(ElementShape &shape);

@@ -122,6 +122,12 @@ namespace nlmech::dim
       std::vector<std::pair<unsigned, double>> vertices; // points of primitives, with radius (deduplicated)
     };
 
+    /// Body pairs (a, b, image of b) whose bounding spheres come within `reach`.
+    std::vector<std::tuple<unsigned, unsigned, std::array<int, 2>>> body_pairs(const Eigen::VectorXd &q,
+                                                                                double reach) const;
+    /// Exact surface gap between body a and the image of body b (radii subtracted).
+    double exact_gap(const Eigen::VectorXd &q, unsigned a, unsigned b, const std::array<int, 2> &image) const;
+
   private:
     std::vector<ElementShape>  shapes;
     std::vector<Primitives>    primitives;
@@ -131,12 +137,7 @@ namespace nlmech::dim
     Eigen::Vector2d            tbar1 = Eigen::Vector2d::Zero(), tbar2 = Eigen::Vector2d::Zero();
     std::vector<Eigen::Matrix2d> basis;
 
-    /// Body pairs (a, b, image of b) whose bounding spheres come within `reach`.
-    std::vector<std::tuple<unsigned, unsigned, std::array<int, 2>>> body_pairs(const Eigen::VectorXd &q,
-                                                                                double reach) const;
     int image_range() const;
-    /// Exact surface gap between body a and the image of body b (radii subtracted).
-    double exact_gap(const Eigen::VectorXd &q, unsigned a, unsigned b, const std::array<int, 2> &image) const;
   };
 
   /// Rodrigues' formula for R(omega) p, with a series near omega = 0 (smooth for forward AD).
