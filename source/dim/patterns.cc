@@ -65,6 +65,24 @@ namespace nlmech::dim
     return p;
   }
 
+  Pattern ring_chain_pattern(const double R, const double r, const double spacing, const unsigned int segments,
+                             const double row_spacing, const double density)
+  {
+    AssertThrow(R > 2 * r, dealii::ExcMessage("Ring chain: needs R > 2 r for the rings to link."));
+    AssertThrow(spacing > R + r && spacing < 2 * (R - r),
+                dealii::ExcMessage("Ring chain: needs R + r < spacing < 2 (R - r)."));
+    AssertThrow(row_spacing > 2 * (R + r), dealii::ExcMessage("Ring chain: the rows must be more than 2 (R + r) apart."));
+    Pattern p;
+    p.name = "ring chain";
+    p.shapes.push_back(torus_ring(R, r, segments, density));
+    p.shape_of  = {0, 0};
+    p.centres   = {Eigen::Vector3d::Zero(), Eigen::Vector3d(spacing, 0, 0)};
+    p.rotations = {Eigen::Vector3d::Zero(), Eigen::Vector3d(M_PI / 2, 0, 0)};
+    p.t1 = Eigen::Vector2d(2 * spacing, 0), p.t2 = Eigen::Vector2d(0, row_spacing);
+    p.neighbours = 2;
+    return p;
+  }
+
   namespace
   {
     Eigen::VectorXd initial_state(const RigidAssembly &assembly, const std::vector<Eigen::Vector3d> &centres,

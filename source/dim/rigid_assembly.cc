@@ -88,7 +88,15 @@ namespace nlmech::dim
 
   std::size_t RigidAssembly::n_parameters() const
   {
-    return place == Placement::periodic ? basis.size() : place == Placement::paraboloid ? 3 : 0;
+    return place == Placement::periodic ? basis.size() : place == Placement::paraboloid ? curvature.size() : 0;
+  }
+
+  void RigidAssembly::set_curvature_basis(const std::vector<Eigen::Vector3d> &b)
+  {
+    AssertThrow(place == Placement::paraboloid,
+                dealii::ExcMessage("Rigid assembly: a curvature basis needs paraboloid placement."));
+    AssertThrow(!b.empty() && b.size() <= 3, dealii::ExcMessage("Paraboloid: one to three curvature parameters."));
+    curvature = b;
   }
 
   Eigen::Matrix3d RigidAssembly::rotation(const Eigen::Vector3d &omega)
@@ -110,6 +118,28 @@ namespace nlmech::dim
                                         const std::array<int, 2> image) const
   {
     return world_point(q, body, Eigen::Vector3d::Zero(), image);
+  }
+
+  Eigen::VectorXd RigidAssembly::motion_metric(const Eigen::VectorXd &q) const
+  {
+    Eigen::VectorXd metric = Eigen::VectorXd::Ones(n_unknowns());
+    double          extent = 0;
+    for (unsigned b = 0; b < n_bodies(); ++b)
+      {
+        const double rho = std::max(reach_radius[shape_of[b]], 1e-12);
+        metric.segment<3>(6 * b + 3).setConstant(rho * rho);
+        extent = std::max(extent, q.segment<2>(6 * b).norm() + rho);
+      }
+    for (std::size_t j = 0; j < n_parameters(); ++j)
+      {
+        double w = 1;
+        if (place == Placement::periodic)
+          w = std::max((basis[j] * tbar1).squaredNorm(), (basis[j] * tbar2).squaredNorm());
+        else if (place == Placement::paraboloid)
+          w = std::pow(extent, 4) * curvature[j].squaredNorm();
+        metric[parameter_index(j)] = std::max(w, 1e-12);
+      }
+    return metric;
   }
 
   Eigen::Matrix2d RigidAssembly::stretch(const Eigen::VectorXd &q) const
@@ -167,11 +197,7 @@ namespace nlmech::dim
       {
         const auto            &sa = shape(a), &sb = shape(b);
         const auto            &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
-        std::vector<Eigen::Vector3d> xa, xb;
-        for (const auto &p : sa.points)
-          xa.push_back(world_point(q, a, p));
-        for (const auto &p : sb.points)
-          xb.push_back(world_point(q, b, p, image));
+        const std::vector<Eigen::Vector3d> xa = world_points(q, a), xb = world_points(q, b, image);
         auto add = [&](const ClosestType &c, const std::array<Eigen::Vector3d, 4> &points,
                        const std::array<unsigned char, 4> &owner, const double radius_sum) {
           const double gap = std::sqrt(c.squared_distance) - radius_sum;
@@ -226,38 +252,96 @@ namespace nlmech::dim
     return result;
   }
 
-  double RigidAssembly::exact_gap(const Eigen::VectorXd &q, const unsigned a, const unsigned b,
-                                  const std::array<int, 2> &image) const
+  std::vector<Eigen::Vector3d> RigidAssembly::world_points(const Eigen::VectorXd &q, const unsigned body,
+                                                         const std::array<int, 2> image) const
   {
-    const auto                  &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
-    std::vector<Eigen::Vector3d> xa, xb;
-    for (const auto &p : shape(a).points)
-      xa.push_back(world_point(q, a, p));
-    for (const auto &p : shape(b).points)
-      xb.push_back(world_point(q, b, p, image));
-    double gap = std::numeric_limits<double>::infinity();
-    for (std::size_t ea = 0; ea < pa.edges.size(); ++ea)
-      for (std::size_t eb = 0; eb < pb.edges.size(); ++eb)
+    const Eigen::Matrix3d        R = rotation(q.segment<3>(6 * body + 3));
+    const Eigen::Vector3d        c = centre(q, body, image);
+    std::vector<Eigen::Vector3d> x;
+    x.reserve(shape(body).points.size());
+    for (const auto &p : shape(body).points)
+      x.push_back(c + R * p);
+    return x;
+  }
+
+  double RigidAssembly::exact_gap(const Eigen::VectorXd &q, const unsigned a, const unsigned b,
+                                  const std::array<int, 2> &image, const double cutoff) const
+  {
+    const auto                        &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
+    const std::vector<Eigen::Vector3d> xa = world_points(q, a), xb = world_points(q, b, image);
+    // Bounding spheres of every primitive (centreline points plus the sweep); a pair whose spheres
+    // are farther apart than the best gap so far (or the cutoff) cannot be closer.
+    struct Ball
+    {
+      Eigen::Vector3d c;
+      double          r;
+    };
+    auto edge_balls = [](const Primitives &p, const std::vector<Eigen::Vector3d> &x) {
+      std::vector<Ball> balls;
+      for (std::size_t e = 0; e < p.edges.size(); ++e)
         {
-          const auto &[i0, i1] = pa.edges[ea];
-          const auto &[j0, j1] = pb.edges[eb];
-          gap = std::min(gap, std::sqrt(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]).squared_distance) -
-                                  pa.edge_radius[ea] - pb.edge_radius[eb]);
+          const auto [c, r] = sphere(x, p.edges[e]);
+          balls.push_back({c, r + p.edge_radius[e]});
         }
-    // Edges against faces, both ways (a crossing gives distance 0, so the gap is minus the radii).
-    for (int side = 0; side < 2; ++side)
-      {
-        const auto &pe = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
-        const auto &xe = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
-        for (std::size_t e = 0; e < pe.edges.size(); ++e)
-          for (std::size_t f = 0; f < pf.faces.size(); ++f)
-            {
-              const auto &[t0, t1, t2] = pf.faces[f];
-              gap = std::min(gap, segment_triangle_distance(xe[pe.edges[e][0]], xe[pe.edges[e][1]], xf[t0], xf[t1],
-                                                            xf[t2]) -
-                                      pe.edge_radius[e] - pf.face_radius[f]);
-            }
-      }
+      return balls;
+    };
+    auto face_balls = [](const Primitives &p, const std::vector<Eigen::Vector3d> &x) {
+      std::vector<Ball> balls;
+      for (std::size_t f = 0; f < p.faces.size(); ++f)
+        {
+          const auto [c, r] = sphere(x, p.faces[f]);
+          balls.push_back({c, r + p.face_radius[f]});
+        }
+      return balls;
+    };
+    const auto ea_balls = edge_balls(pa, xa), eb_balls = edge_balls(pb, xb);
+    const auto fa_balls = face_balls(pa, xa), fb_balls = face_balls(pb, xb);
+    // Pairs by their lower bound, nearest first, so that the best gap prunes the rest early.
+    struct Candidate
+    {
+      double   bound;
+      int      kind; // 0: edge-edge, 1: edge of a - face of b, 2: edge of b - face of a
+      unsigned i, j;
+    };
+    std::vector<Candidate> candidates;
+    auto consider = [&](const std::vector<Ball> &x, const std::vector<Ball> &y, const int kind) {
+      for (unsigned i = 0; i < x.size(); ++i)
+        for (unsigned j = 0; j < y.size(); ++j)
+          {
+            const double bound = (x[i].c - y[j].c).norm() - x[i].r - y[j].r;
+            if (bound < cutoff)
+              candidates.push_back({bound, kind, i, j});
+          }
+    };
+    consider(ea_balls, eb_balls, 0);
+    consider(ea_balls, fb_balls, 1);
+    consider(eb_balls, fa_balls, 2);
+    auto evaluate = [&](const Candidate &c) {
+      if (c.kind == 0)
+        {
+          const auto &[i0, i1] = pa.edges[c.i];
+          const auto &[j0, j1] = pb.edges[c.j];
+          return std::sqrt(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]).squared_distance) -
+                 pa.edge_radius[c.i] - pb.edge_radius[c.j];
+        }
+      // Edges against faces (a crossing gives distance 0, so the gap is minus the radii).
+      const auto &pe = c.kind == 1 ? pa : pb, &pf = c.kind == 1 ? pb : pa;
+      const auto &xe = c.kind == 1 ? xa : xb, &xf = c.kind == 1 ? xb : xa;
+      const auto &[t0, t1, t2] = pf.faces[c.j];
+      return segment_triangle_distance(xe[pe.edges[c.i][0]], xe[pe.edges[c.i][1]], xf[t0], xf[t1], xf[t2]) -
+             pe.edge_radius[c.i] - pf.face_radius[c.j];
+    };
+    double gap = std::numeric_limits<double>::infinity();
+    if (candidates.empty())
+      return gap;
+    // The pair with the lowest bound gives a first gap; then only pairs whose bound is below the
+    // best gap so far can be closer.
+    const auto first = std::min_element(candidates.begin(), candidates.end(),
+                                        [](const Candidate &x, const Candidate &y) { return x.bound < y.bound; });
+    gap              = evaluate(*first);
+    for (const auto &c : candidates)
+      if (c.bound < gap)
+        gap = std::min(gap, evaluate(c));
     return gap;
   }
 
@@ -266,7 +350,7 @@ namespace nlmech::dim
     Gap best;
     for (const auto &[a, b, image] : body_pairs(q, reach))
       {
-        const double gap = exact_gap(q, a, b, image);
+        const double gap = exact_gap(q, a, b, image, std::min(reach, best.gap));
         if (gap < best.gap)
           best.gap = gap, best.body_a = a, best.body_b = b, best.image = image;
       }
@@ -285,14 +369,16 @@ namespace nlmech::dim
         double v = dq.segment<3>(6 * b).norm() + dq.segment<3>(6 * b + 3).norm() * reach_radius[shape_of[b]];
         if (place == Placement::paraboloid)
           {
-            const std::size_t k  = parameter_index(0);
-            const double      x  = std::abs(q[6 * b]) + std::abs(dq[6 * b]);
-            const double      y  = std::abs(q[6 * b + 1]) + std::abs(dq[6 * b + 1]);
-            const double      A  = std::abs(q[k]) + std::abs(dq[k]), B = std::abs(q[k + 1]) + std::abs(dq[k + 1]),
-                         C = std::abs(q[k + 2]) + std::abs(dq[k + 2]);
+            Eigen::Vector3d k0 = Eigen::Vector3d::Zero(), dk = Eigen::Vector3d::Zero();
+            for (std::size_t j = 0; j < curvature.size(); ++j)
+              k0 += q[parameter_index(j)] * curvature[j], dk += dq[parameter_index(j)] * curvature[j];
+            const double x = std::abs(q[6 * b]) + std::abs(dq[6 * b]);
+            const double y = std::abs(q[6 * b + 1]) + std::abs(dq[6 * b + 1]);
+            const double A = std::abs(k0[0]) + std::abs(dk[0]), B = std::abs(k0[1]) + std::abs(dk[1]),
+                         C = std::abs(k0[2]) + std::abs(dk[2]);
             const double dx = std::abs(dq[6 * b]), dy = std::abs(dq[6 * b + 1]);
-            v += std::abs(dq[k]) * x * x + 2 * A * x * dx + std::abs(dq[k + 1]) * y * y + 2 * B * y * dy +
-                 std::abs(dq[k + 2]) * x * y + C * (dx * y + x * dy);
+            v += std::abs(dk[0]) * x * x + 2 * A * x * dx + std::abs(dk[1]) * y * y + 2 * B * y * dy +
+                 std::abs(dk[2]) * x * y + C * (dx * y + x * dy);
           }
         speed[b] = v;
       }
@@ -319,26 +405,47 @@ namespace nlmech::dim
     std::vector<Candidate> candidates;
     for (const auto &[a, b, image] : body_pairs(q, reach))
       {
-        const double v = speed[a] + speed[b] + image_speed(image);
+        double v = speed[a] + speed[b] + image_speed(image);
+        if (place != Placement::paraboloid)
+          {
+            // Centres (and image offsets) move linearly with the step: bound the relative motion
+            // of the pair by the exact relative translation plus each body's rotation.
+            Eigen::Vector3d relative = dq.segment<3>(6 * b) - dq.segment<3>(6 * a);
+            if (place == Placement::periodic)
+              {
+                const Eigen::Vector2d o = image[0] * tbar1 + image[1] * tbar2;
+                for (std::size_t j = 0; j < basis.size(); ++j)
+                  relative.head<2>() += dq[parameter_index(j)] * basis[j] * o;
+              }
+            v = relative.norm() + dq.segment<3>(6 * a + 3).norm() * reach_radius[shape_of[a]] +
+                dq.segment<3>(6 * b + 3).norm() * reach_radius[shape_of[b]];
+          }
         if (v > 0)
           candidates.push_back({a, b, image, v, 0});
       }
     if (candidates.empty())
       return 1.0;
-    auto pair_gap = [&](const Eigen::VectorXd &x, const Candidate &c) {
-      return exact_gap(x, c.a, c.b, c.image) - separation;
+    // A pair is checked exactly only while it could reach its floor within the rest of the step.
+    auto pair_gap = [&](const Eigen::VectorXd &x, const Candidate &c, const double cutoff) {
+      return exact_gap(x, c.a, c.b, c.image, cutoff + separation) - separation;
     };
+    std::vector<Candidate> reachable;
     for (auto &c : candidates)
-      c.start_gap = pair_gap(q, c);
+      {
+        const double cutoff = c.speed / (1 - keep);
+        c.start_gap         = pair_gap(q, c, cutoff);
+        if (c.start_gap < cutoff)
+          reachable.push_back(c); // otherwise it stays above keep * its gap during the whole step
+      }
     double alpha = 0;
     for (unsigned iteration = 0; iteration < 100; ++iteration)
       {
         const Eigen::VectorXd x    = q + alpha * dq;
         double                step = std::numeric_limits<double>::infinity();
-        for (const auto &c : candidates)
+        for (const auto &c : reachable)
           {
-            const double g = alpha == 0 ? c.start_gap : pair_gap(x, c);
             const double floor = keep * c.start_gap;
+            const double g     = alpha == 0 ? c.start_gap : pair_gap(x, c, floor + c.speed * (1 - alpha));
             if (g <= floor)
               return alpha;
             step = std::min(step, (g - floor) / c.speed);

@@ -61,6 +61,13 @@ namespace nlmech::dim
   Pattern torus_knot_pattern(const TorusKnotDimensions &d, double density);
   Pattern scale_mail_pattern(const ScaleMailDimensions &d, double density);
 
+  /// A chain of linked torus rings along x (alternately in the xy and xz planes, `spacing` apart),
+  /// rows `row_spacing` apart and not linked across: the validation material with a closed-form
+  /// limit, the largest stretch along the chain 2 (R - r) / spacing - 1 (needs R + r < spacing <
+  /// 2 (R - r), so that rings of one orientation clear each other and neighbours are linked).
+  Pattern ring_chain_pattern(double R, double r, double spacing, unsigned int segments, double row_spacing,
+                             double density);
+
   /// An assembly with its starting state and every element's reference in-plane position.
   struct PlacedAssembly
   {

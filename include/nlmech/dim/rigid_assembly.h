@@ -67,6 +67,11 @@ namespace nlmech::dim
     void set_lattice(const Eigen::Vector2d &tbar1, const Eigen::Vector2d &tbar2,
                      const std::vector<Eigen::Matrix2d> &strain_basis);
 
+    /// Paraboloid placement: (A, B, C) = sum_j p_j K_j over the given basis (default: the unit
+    /// vectors, p = (A, B, C)).
+    void set_curvature_basis(const std::vector<Eigen::Vector3d> &basis);
+    const std::vector<Eigen::Vector3d> &curvature_basis() const { return curvature; }
+
     std::size_t n_bodies() const { return shape_of.size(); }
     std::size_t n_parameters() const;
     std::size_t n_unknowns() const { return 6 * n_bodies() + n_parameters(); }
@@ -104,6 +109,11 @@ namespace nlmech::dim
     double max_safe_step(const Eigen::VectorXd &q, const Eigen::VectorXd &dq, double separation,
                          double keep = 0.1) const;
 
+    /// Per unknown, the squared length of motion a unit change causes somewhere in the assembly (1
+    /// for positions, rho^2 for rotations, |tbar|^2 for lattice strains, r^4 for paraboloid
+    /// curvatures): the metric that makes Newton's diagonal shift consistent across kinds of unknowns.
+    Eigen::VectorXd motion_metric(const Eigen::VectorXd &q) const;
+
     /// The rotation matrix of a rotation vector.
     static Eigen::Matrix3d rotation(const Eigen::Vector3d &omega);
 
@@ -125,8 +135,13 @@ namespace nlmech::dim
     /// Body pairs (a, b, image of b) whose bounding spheres come within `reach`.
     std::vector<std::tuple<unsigned, unsigned, std::array<int, 2>>> body_pairs(const Eigen::VectorXd &q,
                                                                                 double reach) const;
-    /// Exact surface gap between body a and the image of body b (radii subtracted).
-    double exact_gap(const Eigen::VectorXd &q, unsigned a, unsigned b, const std::array<int, 2> &image) const;
+    /// Exact surface gap between body a and the image of body b (radii subtracted); where it is at
+    /// least `cutoff`, some value of at least `cutoff` (infinity when no primitive comes that close).
+    double exact_gap(const Eigen::VectorXd &q, unsigned a, unsigned b, const std::array<int, 2> &image,
+                     double cutoff = std::numeric_limits<double>::infinity()) const;
+    /// World positions of a body's (or its image's) points.
+    std::vector<Eigen::Vector3d> world_points(const Eigen::VectorXd &q, unsigned body,
+                                              std::array<int, 2> image = {0, 0}) const;
 
   private:
     std::vector<ElementShape>  shapes;
@@ -136,6 +151,7 @@ namespace nlmech::dim
     Placement                  place;
     Eigen::Vector2d            tbar1 = Eigen::Vector2d::Zero(), tbar2 = Eigen::Vector2d::Zero();
     std::vector<Eigen::Matrix2d> basis;
+    std::vector<Eigen::Vector3d> curvature{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
 
     int image_range() const;
   };
@@ -184,7 +200,13 @@ namespace nlmech::dim
         c[0] += ox, c[1] += oy;
       }
     else if (place == Placement::paraboloid)
-      c[2] += parameters[0] * q[0] * q[0] + parameters[1] * q[1] * q[1] + parameters[2] * q[0] * q[1];
+      {
+        S A(0), B(0), C(0);
+        for (std::size_t j = 0; j < curvature.size(); ++j)
+          A += parameters[j] * curvature[j][0], B += parameters[j] * curvature[j][1],
+              C += parameters[j] * curvature[j][2];
+        c[2] += A * q[0] * q[0] + B * q[1] * q[1] + C * q[0] * q[1];
+      }
     return {c[0] + x[0], c[1] + x[1], c[2] + x[2]};
   }
 

@@ -85,7 +85,7 @@ namespace nlmech
           Eigen::SparseMatrix<double> A = M;
           if (shift > 0)
             for (std::size_t k = 0; k < m; ++k)
-              A.coeffRef(k, k) += shift;
+              A.coeffRef(k, k) += shift * (settings.shift_metric.size() ? settings.shift_metric[free_dofs[k]] : 1.0);
           // The symbolic analysis is reused while the Hessian's pattern does not change.
           if (A.nonZeros() != analysed_nonzeros)
             {
@@ -141,11 +141,20 @@ namespace nlmech
         if (!accepted && g.norm() <= 1e-8 * g0)
           return result;
         if (std::getenv("NLMECH_NEWTON_DEBUG"))
-          std::fprintf(stderr, "newton it %3u energy %.12e |g| %.3e safe %.3e alpha %.3e shift %.2e |dx| %.3e\n",
-                       result.iterations, energy, g.norm(), safe, accepted ? alpha : 0.0, shift, dx.norm());
+          {
+            Eigen::Index largest;
+            dx.cwiseAbs().maxCoeff(&largest);
+            std::fprintf(stderr,
+                         "newton it %3u energy %.12e |g| %.3e safe %.3e alpha %.3e shift %.2e |dx| %.3e (largest: "
+                         "unknown %ld)\n",
+                         result.iterations, energy, g.norm(), safe, accepted ? alpha : 0.0, shift, dx.norm(),
+                         long(largest));
+          }
         AssertThrow(accepted, dealii::ExcMessage("Newton: the line search found no decrease (gradient norm " +
                                                  std::to_string(g.norm()) + ")."));
         g = free_gradient(x);
+        if (settings.grow_shift_on_short_steps && safe < 0.5)
+          last_shift = 100 * std::max(shift, shift_floor);
         if (settings.step_tolerance > 0 && alpha == 1.0 && dx.lpNorm<Eigen::Infinity>() <= settings.step_tolerance)
           {
             ++result.iterations;

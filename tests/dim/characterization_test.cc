@@ -1,0 +1,77 @@
+// Macroscopic tests on native-scale models: strain measures, a rigid rotation gives zero strain,
+// and the periodic ring chain stops at its closed-form stretch limit 2 (R - r) / spacing - 1.
+#include <nlmech/dim/characterization.h>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+using namespace nlmech;
+using namespace nlmech::dim;
+
+TEST(StrainMeasures, RigidRotationOfACellGivesZeroStrain)
+{
+  const Pattern         pattern = threefold_pattern({}, 1.24e-6);
+  const Eigen::Rotation2Dd Q(0.7);
+  // Lattice vectors of the rotated, unstretched cell and of a stretched then rotated one.
+  EXPECT_LT(green_strain(cell_deformation_gradient(Q * pattern.t1, Q * pattern.t2, pattern.t1, pattern.t2)).norm(),
+            1e-15);
+  const double          theta = 0.4, ep = 0.03, eo = -0.02;
+  const Eigen::Vector2d dp(std::cos(theta), std::sin(theta)), dn(-std::sin(theta), std::cos(theta));
+  const Eigen::Matrix2d U = Eigen::Matrix2d::Identity() + ep * dp * dp.transpose() + eo * dn * dn.transpose();
+  const Eigen::Matrix2d F =
+      cell_deformation_gradient(Q * (U * pattern.t1), Q * (U * pattern.t2), pattern.t1, pattern.t2);
+  EXPECT_LT((green_strain(F) - green_strain(theta, ep, eo)).norm(), 1e-15);
+  // Principal Green strains 1/2 ((1 + eps)^2 - 1).
+  const Eigen::Vector3d E = green_strain(0.0, ep, eo);
+  EXPECT_NEAR(E[0], 0.5 * (std::pow(1 + ep, 2) - 1), 1e-15);
+  EXPECT_NEAR(E[1], 0.5 * (std::pow(1 + eo, 2) - 1), 1e-15);
+  EXPECT_NEAR(E[2], 0.0, 1e-15);
+
+  // The contact energy of a patch moved rigidly (rotation about an arbitrary axis plus a shift)
+  // is unchanged.
+  const auto         patch = finite_patch(pattern, 7, PatchShape::hexagon);
+  ContactSettings    contact;
+  contact.dhat = 0.5;
+  ContactBarrier     barrier(patch.assembly, contact);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  Eigen::VectorXd    moved = patch.q;
+  for (unsigned b = 0; b < patch.assembly->n_bodies(); ++b)
+    {
+      moved.segment<3>(6 * b) = R * patch.q.segment<3>(6 * b) + Eigen::Vector3d(1, -2, 0.5);
+      const Eigen::AngleAxisd composed(R * RigidAssembly::rotation(patch.q.segment<3>(6 * b + 3)));
+      moved.segment<3>(6 * b + 3) = composed.angle() * composed.axis();
+    }
+  const double e0 = barrier.value(patch.q), e1 = barrier.value(moved);
+  ASSERT_GT(e0, 0);
+  EXPECT_NEAR(e1, e0, 1e-10 * e0);
+}
+
+TEST(InPlaneTest, RingChainStopsAtItsClosedFormStretchLimit)
+{
+  // Link distance at the limit: 2 (R - r) for circles; the polygons' inner edges lie inside the
+  // circles by up to the sagitta R (1 - cos(pi / N)), so the polygon chain stops between
+  // 2 (R cos(pi / N) - r) and 2 (R - r). With N = 256 that is within 0.5 % of the strain.
+  const double R = 4, r = 1, spacing = 5.5;
+  for (const unsigned N : {64u, 256u})
+    {
+      const Pattern       chain = ring_chain_pattern(R, r, spacing, N, 12, 1.24e-6);
+      NativeSolveSettings settings;
+      settings.contact.dhat  = 1e-3;
+      settings.contact.kappa = 1e-2;
+      InPlaneTest  test(chain, 0.0, settings);
+      const auto   out      = test.solve(1.0, 1e-2, 0.0, 0.0);
+      const double expected = 2 * (R - r) / spacing - 1;
+      const double link     = (1 + out.principal) * spacing;
+      std::printf("ring chain, N = %u: eps_p %.6f (expected %.6f, %.3f %%), link distance %.5f mm, %u iterations, "
+                  "%.2f s, gap %.2e mm\n",
+                  N, out.principal, expected, 100 * (out.principal / expected - 1), link, out.iterations, out.seconds,
+                  out.smallest_gap);
+      EXPECT_LE(link, 2 * (R - r));
+      EXPECT_GE(link, 2 * (R * std::cos(M_PI / N) - r) - settings.contact.dhat);
+      if (N == 256)
+        EXPECT_NEAR(out.principal, expected, 0.005 * expected);
+      EXPECT_GT(out.smallest_gap, 0);
+    }
+}
