@@ -7,6 +7,7 @@ packages=(
   libdeal.ii-dev        # deal.II 9.4: brings Trilinos 13.2, SUNDIALS, METIS, p4est, UMFPACK, MPI
   libgmsh-dev gmsh      # gmsh C++ API for meshing .geo sources
   libeigen3-dev libfftw3-dev libsuitesparse-dev
+  libcgal-dev           # CGAL: strain-space boundary meshes (convex hull, AABB tree, inside tests)
   libopenblas0-serial   # optimised BLAS/LAPACK behind UMFPACK/CHOLMOD (serial: one thread per MPI rank)
   openmpi-bin
   coinor-libipopt-dev   # Ipopt: the general nonlinear-programming baseline of the strain-limiting benchmark

@@ -149,3 +149,184 @@ namespace nlmech::dim
     return outcome;
   }
 } // namespace nlmech::dim
+
+#include <deal.II/base/mpi.h>
+
+#include <nlmech/base/atomic_output.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace nlmech::dim
+{
+  std::string to_string(const SampleKind kind)
+  {
+    switch (kind)
+      {
+        case SampleKind::positive: return "positive";
+        case SampleKind::negative: return "negative";
+        case SampleKind::level_up: return "level-up";
+        default: return "level-down";
+      }
+  }
+
+  std::string Sample::key() const
+  {
+    char name[96];
+    std::snprintf(name, sizeof name, "%s-d%03u-%s-l%02u", test.c_str(), direction, dim::to_string(kind).c_str(), level);
+    return name;
+  }
+
+  namespace
+  {
+    namespace fs = std::filesystem;
+
+    std::string record_of(const Sample &s)
+    {
+      char line[512];
+      std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %u %.6g %.6g\n", s.theta, s.target_p,
+                    s.target_o, s.outcome.principal, s.outcome.orthogonal, s.outcome.iterations, s.outcome.seconds,
+                    s.outcome.smallest_gap);
+      return line;
+    }
+    bool read_record(const std::string &path, Sample &s)
+    {
+      std::ifstream in(path);
+      if (!in)
+        return false;
+      Sample r = s;
+      if (!(in >> r.theta >> r.target_p >> r.target_o >> r.outcome.principal >> r.outcome.orthogonal >>
+            r.outcome.iterations >> r.outcome.seconds >> r.outcome.smallest_gap))
+        return false; // unreadable: run the job again
+      if (!std::isfinite(r.outcome.principal) || !std::isfinite(r.outcome.orthogonal))
+        return false;
+      s = r;
+      return true;
+    }
+    void set_point(Sample &s)
+    {
+      s.point = s.test == "in-plane" ? green_strain(s.theta, s.outcome.principal, s.outcome.orthogonal)
+                                     : curvature_tensor(s.theta, s.outcome.principal, s.outcome.orthogonal);
+    }
+  } // namespace
+
+  std::vector<Sample> sample_strain_space(const Pattern &pattern, const std::string &test, const SamplingPlan &plan,
+                                          const NativeSolveSettings &settings, const std::string &checkpoint_directory,
+                                          MPI_Comm                                                       comm,
+                                          const std::function<void(unsigned, unsigned, const Sample &)> &progress)
+  {
+    AssertThrow(test == "in-plane" || test == "bending",
+                dealii::ExcMessage("Sampling: the test is 'in-plane' or 'bending', not '" + test + "'."));
+    AssertThrow(plan.directions >= 2, dealii::ExcMessage("Sampling: needs at least two directions."));
+    const unsigned rank = dealii::Utilities::MPI::this_mpi_process(comm);
+    const unsigned size = dealii::Utilities::MPI::n_mpi_processes(comm);
+    if (rank == 0)
+      fs::create_directories(checkpoint_directory);
+    MPI_Barrier(comm);
+    const double far = test == "in-plane" ? plan.far_strain : plan.far_curvature;
+    const double w = settings.target_weight, hold = settings.hold_weight;
+    unsigned     new_samples = 0;
+
+    // One phase: run the jobs not yet checkpointed, round-robin over the ranks, then read all.
+    auto run_phase = [&](std::vector<Sample> &jobs) {
+      std::vector<std::size_t> open;
+      for (std::size_t j = 0; j < jobs.size(); ++j)
+        if (!fs::exists(checkpoint_directory + "/" + jobs[j].key() + ".sample"))
+          open.push_back(j);
+      std::string error;
+      unsigned    done = 0, mine = 0;
+      for (std::size_t k = rank; k < open.size(); k += size)
+        ++mine;
+      for (std::size_t k = rank; k < open.size() && error.empty(); k += size)
+        {
+          if (plan.stop_after > 0 && new_samples >= plan.stop_after)
+            break;
+          Sample &s = jobs[open[k]];
+          try
+            {
+              if (test == "in-plane")
+                {
+                  InPlaneTest t(pattern, s.theta, settings);
+                  s.outcome = s.kind == SampleKind::positive || s.kind == SampleKind::negative
+                                  ? t.solve(s.target_p, w, 0.0, 0.0)
+                                  : t.solve(s.target_p, hold, s.target_o, w);
+                }
+              else
+                {
+                  BendingTest t(pattern, plan.patch_elements, s.theta, settings);
+                  s.outcome = s.kind == SampleKind::positive || s.kind == SampleKind::negative
+                                  ? t.solve(s.target_p, w, 0.0, 0.0)
+                                  : t.solve(s.target_p, hold, s.target_o, w);
+                }
+              AssertThrow(std::isfinite(s.outcome.principal) && std::isfinite(s.outcome.orthogonal),
+                          dealii::ExcMessage("Sampling: a test returned a non-finite result."));
+              write_file_atomically(checkpoint_directory + "/" + s.key() + ".sample", record_of(s));
+              ++new_samples;
+              if (progress)
+                progress(++done, mine, s);
+            }
+          catch (const std::exception &e)
+            {
+              error = "Sample " + s.key() + ": " + e.what();
+            }
+        }
+      // Agree on errors and on an early stop before anybody reads the checkpoint.
+      const auto errors = dealii::Utilities::MPI::all_gather(comm, error);
+      for (const auto &e : errors)
+        AssertThrow(e.empty(), dealii::ExcMessage(e));
+      const unsigned stopped = dealii::Utilities::MPI::max(
+          unsigned(plan.stop_after > 0 && new_samples >= plan.stop_after), comm);
+      AssertThrow(stopped == 0, dealii::ExcMessage("Sampling stopped after " + std::to_string(plan.stop_after) +
+                                                   " new samples, as asked ('Stop after'); run again to resume."));
+      for (auto &s : jobs)
+        {
+          AssertThrow(read_record(checkpoint_directory + "/" + s.key() + ".sample", s),
+                      dealii::ExcMessage("Sampling: the checkpoint of " + s.key() + " is missing or unreadable."));
+          set_point(s);
+        }
+    };
+
+    std::vector<Sample> phase1;
+    for (unsigned d = 0; d < plan.directions; ++d)
+      for (const SampleKind kind : {SampleKind::positive, SampleKind::negative})
+        {
+          Sample s;
+          s.test = test, s.direction = d, s.kind = kind, s.theta = M_PI * d / plan.directions;
+          s.target_p = kind == SampleKind::positive ? far : -far;
+          phase1.push_back(s);
+        }
+    run_phase(phase1);
+    std::vector<Sample> phase2;
+    for (unsigned d = 0; d < plan.directions; ++d)
+      for (unsigned l = 1; l <= plan.levels; ++l)
+        for (const SampleKind kind : {SampleKind::level_up, SampleKind::level_down})
+          {
+            const double hi = phase1[2 * d].outcome.principal, lo = phase1[2 * d + 1].outcome.principal;
+            Sample       s;
+            s.test = test, s.direction = d, s.level = l, s.kind = kind, s.theta = M_PI * d / plan.directions;
+            s.target_p = lo + (hi - lo) * l / (plan.levels + 1);
+            s.target_o = kind == SampleKind::level_up ? far : -far;
+            phase2.push_back(s);
+          }
+    run_phase(phase2);
+    phase1.insert(phase1.end(), phase2.begin(), phase2.end());
+    return phase1;
+  }
+
+  std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples, const unsigned int directions)
+  {
+    std::vector<DirectionalLimits> limits(directions);
+    for (const auto &s : samples)
+      {
+        if (s.direction >= directions)
+          continue;
+        auto &l = limits[s.direction];
+        l.theta = s.theta;
+        if (s.kind == SampleKind::positive)
+          l.positive_p = s.outcome.principal, l.positive_o = s.outcome.orthogonal;
+        else if (s.kind == SampleKind::negative)
+          l.negative_p = s.outcome.principal, l.negative_o = s.outcome.orthogonal;
+      }
+    return limits;
+  }
+} // namespace nlmech::dim

@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -296,26 +298,31 @@ namespace nlmech::dim
     };
     const auto ea_balls = edge_balls(pa, xa), eb_balls = edge_balls(pb, xb);
     const auto fa_balls = face_balls(pa, xa), fb_balls = face_balls(pb, xb);
-    // Pairs by their lower bound, nearest first, so that the best gap prunes the rest early.
+    // Two levels: balls around chunks of consecutive primitives (polylines are spatially coherent),
+    // then the primitives of chunk pairs that could hold a gap below the best so far.
     struct Candidate
     {
       double   bound;
       int      kind; // 0: edge-edge, 1: edge of a - face of b, 2: edge of b - face of a
       unsigned i, j;
     };
-    std::vector<Candidate> candidates;
-    auto consider = [&](const std::vector<Ball> &x, const std::vector<Ball> &y, const int kind) {
-      for (unsigned i = 0; i < x.size(); ++i)
-        for (unsigned j = 0; j < y.size(); ++j)
-          {
-            const double bound = (x[i].c - y[j].c).norm() - x[i].r - y[j].r;
-            if (bound < cutoff)
-              candidates.push_back({bound, kind, i, j});
-          }
+    constexpr unsigned chunk = 8;
+    auto               chunk_balls = [](const std::vector<Ball> &balls) {
+      std::vector<Ball> chunks;
+      for (unsigned first = 0; first < balls.size(); first += chunk)
+        {
+          const unsigned  last = std::min<unsigned>(first + chunk, balls.size());
+          Eigen::Vector3d c    = Eigen::Vector3d::Zero();
+          for (unsigned k = first; k < last; ++k)
+            c += balls[k].c;
+          c /= double(last - first);
+          double r = 0;
+          for (unsigned k = first; k < last; ++k)
+            r = std::max(r, (balls[k].c - c).norm() + balls[k].r);
+          chunks.push_back({c, r});
+        }
+      return chunks;
     };
-    consider(ea_balls, eb_balls, 0);
-    consider(ea_balls, fb_balls, 1);
-    consider(eb_balls, fa_balls, 2);
     auto evaluate = [&](const Candidate &c) {
       if (c.kind == 0)
         {
@@ -332,16 +339,41 @@ namespace nlmech::dim
              pe.edge_radius[c.i] - pf.face_radius[c.j];
     };
     double gap = std::numeric_limits<double>::infinity();
-    if (candidates.empty())
-      return gap;
-    // The pair with the lowest bound gives a first gap; then only pairs whose bound is below the
-    // best gap so far can be closer.
-    const auto first = std::min_element(candidates.begin(), candidates.end(),
-                                        [](const Candidate &x, const Candidate &y) { return x.bound < y.bound; });
-    gap              = evaluate(*first);
-    for (const auto &c : candidates)
-      if (c.bound < gap)
-        gap = std::min(gap, evaluate(c));
+    // Chunk pairs of all three kinds, nearest bound first.
+    std::vector<Candidate> chunk_pairs;
+    const std::array<std::pair<const std::vector<Ball> *, const std::vector<Ball> *>, 3> kinds{
+        {{&ea_balls, &eb_balls}, {&ea_balls, &fb_balls}, {&eb_balls, &fa_balls}}};
+    std::array<std::pair<std::vector<Ball>, std::vector<Ball>>, 3> chunks;
+    for (int kind = 0; kind < 3; ++kind)
+      {
+        chunks[kind] = {chunk_balls(*kinds[kind].first), chunk_balls(*kinds[kind].second)};
+        for (unsigned i = 0; i < chunks[kind].first.size(); ++i)
+          for (unsigned j = 0; j < chunks[kind].second.size(); ++j)
+            {
+              const double bound =
+                  (chunks[kind].first[i].c - chunks[kind].second[j].c).norm() - chunks[kind].first[i].r -
+                  chunks[kind].second[j].r;
+              if (bound < cutoff)
+                chunk_pairs.push_back({bound, kind, i, j});
+            }
+      }
+    std::sort(chunk_pairs.begin(), chunk_pairs.end(),
+              [](const Candidate &x, const Candidate &y) { return x.bound < y.bound; });
+    for (const auto &cp : chunk_pairs)
+      {
+        if (cp.bound >= std::min(gap, cutoff))
+          break;
+        const auto    &x = *kinds[cp.kind].first, &y = *kinds[cp.kind].second;
+        const unsigned i_end = std::min<unsigned>((cp.i + 1) * chunk, x.size()),
+                       j_end = std::min<unsigned>((cp.j + 1) * chunk, y.size());
+        for (unsigned i = cp.i * chunk; i < i_end; ++i)
+          for (unsigned j = cp.j * chunk; j < j_end; ++j)
+            {
+              const double bound = (x[i].c - y[j].c).norm() - x[i].r - y[j].r;
+              if (bound < std::min(gap, cutoff))
+                gap = std::min(gap, evaluate({bound, cp.kind, i, j}));
+            }
+      }
     return gap;
   }
 
@@ -437,24 +469,40 @@ namespace nlmech::dim
         if (c.start_gap < cutoff)
           reachable.push_back(c); // otherwise it stays above keep * its gap during the whole step
       }
-    double alpha = 0;
-    for (unsigned iteration = 0; iteration < 100; ++iteration)
+    // Each pair's gap is known exactly at the step where it was last computed, and falls at most by
+    // its speed per unit step after that: advance to where the first pair could reach its floor,
+    // compute that pair exactly there, and repeat (only the limiting pair is recomputed).
+    std::vector<double> known_at(reachable.size(), 0.0), known_gap(reachable.size());
+    for (std::size_t k = 0; k < reachable.size(); ++k)
       {
-        const Eigen::VectorXd x    = q + alpha * dq;
-        double                step = std::numeric_limits<double>::infinity();
-        for (const auto &c : reachable)
+        known_gap[k] = reachable[k].start_gap;
+        if (known_gap[k] <= keep * reachable[k].start_gap)
+          return 0.0;
+      }
+    double alpha = 0;
+    for (unsigned iteration = 0; iteration < 1000; ++iteration)
+      {
+        std::size_t limiting = reachable.size();
+        double      next     = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < reachable.size(); ++k)
           {
-            const double floor = keep * c.start_gap;
-            const double g     = alpha == 0 ? c.start_gap : pair_gap(x, c, floor + c.speed * (1 - alpha));
-            if (g <= floor)
-              return alpha;
-            step = std::min(step, (g - floor) / c.speed);
+            const double reach_floor =
+                known_at[k] + (known_gap[k] - keep * reachable[k].start_gap) / reachable[k].speed;
+            if (reach_floor < next)
+              next = reach_floor, limiting = k;
           }
-        if (alpha + step >= 1)
+        if (next >= 1 || limiting == reachable.size())
           return 1.0;
-        alpha += step;
-        if (step < 1e-9)
-          break;
+        alpha = std::max(alpha, next); // ties (symmetric pairs) are recomputed without advancing
+        const Candidate &c = reachable[limiting];
+        const double     floor = keep * c.start_gap;
+        const double     g     = pair_gap(q + alpha * dq, c, floor + c.speed * (1 - alpha));
+        if (std::getenv("NLMECH_CCD_DEBUG"))
+          std::fprintf(stderr, "ccd it %u alpha %.3e pair %zu/%zu g %.3e floor %.3e speed %.3e start %.3e\n", iteration,
+                       alpha, limiting, reachable.size(), g, floor, c.speed, c.start_gap);
+        if (g <= floor)
+          return alpha;
+        known_at[limiting] = alpha, known_gap[limiting] = g;
       }
     return alpha;
   }

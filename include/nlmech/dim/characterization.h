@@ -94,3 +94,66 @@ namespace nlmech::dim
   /// The directional Cauchy-like metric of thesis eq. 4.4.1, c = (eps_s - eps_c) / (1 + eps_c).
   double travel_metric(double eps_stretch, double eps_compress);
 } // namespace nlmech::dim
+
+#include <mpi.h>
+
+namespace nlmech::dim
+{
+  /// The sampling protocol of section 4.3.3 for one material, per direction theta_i = i pi / n:
+  /// phase 1 drives the principal component to +far and -far with the orthogonal one free (the
+  /// uniaxial stretch / compression limits, or positive / negative bending); phase 2 holds the
+  /// principal component at `levels` values evenly inside those limits and drives the orthogonal
+  /// one to +far and -far. Every sample is the nearest feasible state to its target, a point on
+  /// the boundary of the feasible set.
+  struct SamplingPlan
+  {
+    unsigned int directions     = 12;
+    unsigned int levels         = 3;
+    double       far_strain     = 0.5; // |target| of a driven strain component [-]
+    double       far_curvature  = 0.5; // |target| of a driven curvature [1/mm]
+    unsigned int patch_elements = 19;  // disk patch of the bending tests
+    bool         in_plane = true, bending = true;
+    /// Stop after this many new samples (0: no limit), as if the run were killed: for tests of
+    /// the checkpoint.
+    unsigned int stop_after = 0;
+  };
+
+  enum class SampleKind
+  {
+    positive, // principal driven to +far (stretch, positive curvature), orthogonal free
+    negative, // principal driven to -far
+    level_up, // principal held at a level, orthogonal driven to +far
+    level_down
+  };
+  std::string to_string(SampleKind kind);
+
+  struct Sample
+  {
+    std::string     test; // "in-plane" or "bending"
+    unsigned int    direction = 0, level = 0;
+    double          theta = 0;
+    SampleKind      kind  = SampleKind::positive;
+    double          target_p = 0, target_o = 0;
+    TestOutcome     outcome;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero(); // Green strain or curvature tensor components
+    std::string     key() const;
+  };
+
+  /// Runs (or resumes) the sampling of one test ("in-plane" or "bending") over the communicator's
+  /// ranks: the jobs of a phase are dealt out round-robin, and every finished sample is written at
+  /// once (atomically) to `checkpoint_directory`, where a resumed run finds it and skips the job.
+  /// Returns all samples of the test, in job order, on every rank. `progress(done, total)` is
+  /// called on each rank after each of its samples.
+  std::vector<Sample> sample_strain_space(const Pattern &pattern, const std::string &test, const SamplingPlan &plan,
+                                          const NativeSolveSettings &settings, const std::string &checkpoint_directory,
+                                          MPI_Comm                                                comm,
+                                          const std::function<void(unsigned, unsigned, const Sample &)> &progress);
+
+  /// Per direction: the uniaxial limits of phase 1 (principal and the orthogonal value reached).
+  struct DirectionalLimits
+  {
+    double theta = 0;
+    double positive_p = 0, positive_o = 0, negative_p = 0, negative_o = 0;
+  };
+  std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples, unsigned int directions);
+} // namespace nlmech::dim
