@@ -1,0 +1,383 @@
+// Scene "dim-characterization": a discrete interlocking material characterised at native scale
+// (thesis ch. 4): periodic-cell in-plane tests and paraboloid bending tests on a disk patch sampled
+// over directions (section 4.3.3), spread over MPI ranks with a checkpoint per sample; the
+// strain-space boundaries as closed meshes (.ssb and VTU), directional limits (CSV, polar PNGs with
+// the metric c of eq. 4.4.1) and VTU of the elements at rest and at the stretch limit.
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+
+#include <nlmech/base/progress.h>
+#include <nlmech/base/run_context.h>
+#include <nlmech/base/scene.h>
+#include <nlmech/dim/characterization.h>
+#include <nlmech/dim/element_output.h>
+#include <nlmech/scenes/elastic_statics_parameters.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+namespace nlmech
+{
+  using namespace dealii;
+  using namespace nlmech::dim;
+
+  namespace
+  {
+    constexpr double degree = M_PI / 180;
+
+    class DimCharacterizationScene : public Scene
+    {
+    public:
+      static void declare_parameters(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Material");
+        prm.declare_entry("Pattern", "threefold",
+                          Patterns::Selection("4-in-1|threefold|torus knot|scale mail|ring chain"),
+                          "The interlocking pattern (ring chain: the validation material with a closed-form "
+                          "stretch limit).");
+        prm.declare_entry("Density", "1.24e-6", Patterns::Double(0), "Element material density [kg/mm^3] (PLA).");
+        prm.enter_subsection("4-in-1");
+        prm.declare_entry("Ring radius", "3", Patterns::Double(0), "R, centreline radius [mm].");
+        prm.declare_entry("Tube radius", "0.5", Patterns::Double(0), "r [mm].");
+        prm.declare_entry("Tilt", "30", Patterns::Double(0, 80), "Tilt of the rings about the column axis [deg].");
+        prm.declare_entry("Column spacing", "2", Patterns::Double(0), "a [mm].");
+        prm.declare_entry("Row spacing", "7.5", Patterns::Double(0), "b [mm].");
+        prm.declare_entry("Segments", "64", Patterns::Integer(8), "Centreline segments per ring.");
+        prm.leave_subsection();
+        prm.enter_subsection("Threefold");
+        prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R [mm].");
+        prm.declare_entry("Tube radius", "0.5", Patterns::Double(0), "r [mm].");
+        prm.declare_entry("Wave height", "0.8", Patterns::Double(0), "h of z = h cos 6 (t - 15 deg) [mm].");
+        prm.declare_entry("Spacing", "5.657", Patterns::Double(0), "D, triangular lattice spacing [mm].");
+        prm.declare_entry("Segments", "96", Patterns::Integer(48), "Centreline segments per ring.");
+        prm.leave_subsection();
+        prm.enter_subsection("Torus knot");
+        prm.declare_entry("p", "1", Patterns::Integer(1), "Turns around the symmetry axis.");
+        prm.declare_entry("q", "4", Patterns::Integer(1), "Turns around the tube (q-fold symmetry).");
+        prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R [mm].");
+        prm.declare_entry("Knot offset", "1", Patterns::Double(0), "a, radius of the winding about the core [mm].");
+        prm.declare_entry("Tube radius", "0.4", Patterns::Double(0), "r [mm].");
+        prm.declare_entry("Spacing", "7", Patterns::Double(0), "D, square lattice spacing [mm].");
+        prm.declare_entry("Phase", "0", Patterns::Double(), "Rotation of every element about z [deg].");
+        prm.declare_entry("Segments", "128", Patterns::Integer(8), "Centreline segments per element.");
+        prm.leave_subsection();
+        prm.enter_subsection("Scale mail");
+        prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R of the base ring [mm].");
+        prm.declare_entry("Tube radius", "0.5", Patterns::Double(0), "r [mm].");
+        prm.declare_entry("Wave height", "0.8", Patterns::Double(0), "h of the base ring [mm].");
+        prm.declare_entry("Spacing", "5.657", Patterns::Double(0), "D [mm].");
+        prm.declare_entry("Plate radius", "2.45", Patterns::Double(0), "Hexagon circumradius [mm].");
+        prm.declare_entry("Plate thickness", "0.8", Patterns::Double(0), "[mm].");
+        prm.declare_entry("Plate height", "2.3", Patterns::Double(0), "Plate mid-plane above the ring plane [mm].");
+        prm.declare_entry("Segments", "96", Patterns::Integer(48), "Centreline segments per ring.");
+        prm.leave_subsection();
+        prm.enter_subsection("Ring chain");
+        prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R [mm].");
+        prm.declare_entry("Tube radius", "1", Patterns::Double(0), "r [mm].");
+        prm.declare_entry("Spacing", "5.5", Patterns::Double(0), "Distance of linked rings at rest [mm].");
+        prm.declare_entry("Row spacing", "12", Patterns::Double(0), "Distance of the (unlinked) rows [mm].");
+        prm.declare_entry("Segments", "64", Patterns::Integer(8), "Centreline segments per ring.");
+        prm.leave_subsection();
+        prm.leave_subsection();
+
+        prm.enter_subsection("Contact");
+        prm.declare_entry("Barrier gap", "0.01", Patterns::Double(0), "dhat, where the barrier starts [mm].");
+        prm.declare_entry("Barrier stiffness", "0.01", Patterns::Double(0), "kappa [N mm].");
+        prm.declare_entry("Minimum separation", "0", Patterns::Double(0),
+                          "Gap always kept between elements, e.g. the printer's clearance [mm].");
+        prm.declare_entry("Newton iterations", "600", Patterns::Integer(1), "Per test, at most.");
+        prm.leave_subsection();
+
+        prm.enter_subsection("Sampling");
+        prm.declare_entry("Tests", "in-plane, bending", Patterns::MultipleSelection("in-plane|bending"),
+                          "Which strain spaces to sample.");
+        prm.declare_entry("Directions", "12", Patterns::Integer(2), "theta_i = i 180 / n deg, i < n.");
+        prm.declare_entry("Levels", "2", Patterns::Integer(0),
+                          "Principal values per direction at which the orthogonal limits are sought.");
+        prm.declare_entry("Far strain", "0.9", Patterns::Double(0, 0.99),
+                          "|target| of a driven strain: far outside the feasible set [-].");
+        prm.declare_entry("Far curvature", "0.5", Patterns::Double(0), "|target| of a driven curvature [1/mm].");
+        prm.declare_entry("Target weight", "0.01", Patterns::Double(0), "w of the driven component [N mm].");
+        prm.declare_entry("Hold weight", "1", Patterns::Double(0), "w of a component held at a level [N mm].");
+        prm.declare_entry("Patch elements", "19", Patterns::Integer(2), "Elements of the bending disk patch.");
+        prm.declare_entry("Checkpoint directory", "", Patterns::Anything(),
+                          "Finished samples are kept here and skipped when the run is repeated (empty: "
+                          "'<output directory>.checkpoint').");
+        prm.declare_entry("Stop after", "0", Patterns::Integer(0),
+                          "Stop (with an error) after this many new samples, as if killed: 0 never.");
+        prm.leave_subsection();
+      }
+
+      explicit DimCharacterizationScene(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Material");
+        material_name = prm.get("Pattern");
+        density       = prm.get_double("Density");
+        // Each pattern's dimensions are read and checked here, so a bad file fails before any work.
+        if (material_name == "4-in-1")
+          {
+            prm.enter_subsection("4-in-1");
+            FourInOneDimensions d;
+            d.R = prm.get_double("Ring radius"), d.r = prm.get_double("Tube radius");
+            d.tilt = prm.get_double("Tilt") * degree, d.a = prm.get_double("Column spacing");
+            d.b = prm.get_double("Row spacing"), d.segments = prm.get_integer("Segments");
+            pattern = four_in_one_pattern(d, density);
+            prm.leave_subsection();
+          }
+        else if (material_name == "threefold")
+          {
+            prm.enter_subsection("Threefold");
+            ThreefoldDimensions d;
+            d.R = prm.get_double("Ring radius"), d.r = prm.get_double("Tube radius");
+            d.h = prm.get_double("Wave height"), d.D = prm.get_double("Spacing");
+            d.segments = prm.get_integer("Segments");
+            pattern    = threefold_pattern(d, density);
+            prm.leave_subsection();
+          }
+        else if (material_name == "torus knot")
+          {
+            prm.enter_subsection("Torus knot");
+            TorusKnotDimensions d;
+            d.p = prm.get_integer("p"), d.q = prm.get_integer("q"), d.R = prm.get_double("Ring radius");
+            d.a = prm.get_double("Knot offset"), d.r = prm.get_double("Tube radius");
+            d.D = prm.get_double("Spacing"), d.phase = prm.get_double("Phase") * degree;
+            d.segments = prm.get_integer("Segments");
+            pattern    = torus_knot_pattern(d, density);
+            prm.leave_subsection();
+          }
+        else if (material_name == "scale mail")
+          {
+            prm.enter_subsection("Scale mail");
+            ScaleMailDimensions d;
+            d.R = prm.get_double("Ring radius"), d.r = prm.get_double("Tube radius");
+            d.h = prm.get_double("Wave height"), d.D = prm.get_double("Spacing");
+            d.plate_radius = prm.get_double("Plate radius"), d.plate_thickness = prm.get_double("Plate thickness");
+            d.plate_height = prm.get_double("Plate height"), d.segments = prm.get_integer("Segments");
+            pattern        = scale_mail_pattern(d, density);
+            prm.leave_subsection();
+          }
+        else
+          {
+            prm.enter_subsection("Ring chain");
+            pattern = ring_chain_pattern(prm.get_double("Ring radius"), prm.get_double("Tube radius"),
+                                         prm.get_double("Spacing"), prm.get_integer("Segments"),
+                                         prm.get_double("Row spacing"), density);
+            prm.leave_subsection();
+          }
+        prm.leave_subsection();
+
+        prm.enter_subsection("Contact");
+        settings.contact.dhat       = prm.get_double("Barrier gap");
+        settings.contact.kappa      = prm.get_double("Barrier stiffness");
+        settings.contact.separation = prm.get_double("Minimum separation");
+        settings.max_iterations     = prm.get_integer("Newton iterations");
+        AssertThrow(settings.contact.dhat > 0 && settings.contact.kappa > 0,
+                    ExcMessage("Contact: the barrier gap and stiffness must be positive."));
+        prm.leave_subsection();
+
+        prm.enter_subsection("Sampling");
+        for (const auto &t : Utilities::split_string_list(prm.get("Tests"), ','))
+          tests.push_back(t);
+        AssertThrow(!tests.empty(), ExcMessage("Sampling: name at least one test (in-plane, bending)."));
+        plan.directions         = prm.get_integer("Directions");
+        plan.levels             = prm.get_integer("Levels");
+        plan.far_strain         = prm.get_double("Far strain");
+        plan.far_curvature      = prm.get_double("Far curvature");
+        settings.target_weight  = prm.get_double("Target weight");
+        settings.hold_weight    = prm.get_double("Hold weight");
+        plan.patch_elements     = prm.get_integer("Patch elements");
+        checkpoint_directory    = prm.get("Checkpoint directory");
+        plan.stop_after         = prm.get_integer("Stop after");
+        AssertThrow(settings.target_weight > 0 && settings.hold_weight > 0,
+                    ExcMessage("Sampling: the target and hold weights must be positive."));
+        prm.leave_subsection();
+      }
+
+      void validate() const override
+      {
+        // The starting states: intersection-free (names the pair otherwise).
+        const auto cell = periodic_cell(pattern, {});
+        check_initial_state(*cell.assembly, cell.q, settings.contact.separation);
+        const auto links = find_links(*cell.assembly, cell.q);
+        for (unsigned b = 0; b < links.per_element.size(); ++b)
+          AssertThrow(links.per_element[b] == pattern.neighbours,
+                      ExcMessage("Pattern " + pattern.name + ": element " + std::to_string(b) + " links " +
+                                 std::to_string(links.per_element[b]) + " neighbours instead of " +
+                                 std::to_string(pattern.neighbours) + "; the dimensions do not interlock."));
+      }
+
+      void run(RunContext &context) override
+      {
+        validate();
+        const std::string checkpoint =
+            checkpoint_directory.empty() ? context.output.final_path() + ".checkpoint" : checkpoint_directory;
+        const unsigned n_ranks = Utilities::MPI::n_mpi_processes(context.comm);
+        context.pcout << "DIM characterisation of " << pattern.name << " on " << n_ranks
+                      << " rank(s); checkpoint in " << checkpoint << std::endl;
+        std::ostringstream limits_csv;
+        limits_csv << "theta_deg,eps_stretch,eps_o_at_stretch,eps_compress,eps_o_at_compress,travel_c,"
+                      "kappa_positive,kappa_o_at_positive,kappa_negative,kappa_o_at_negative\n";
+        std::vector<DirectionalLimits> stretch(plan.directions), bend(plan.directions);
+        for (const auto &test : tests)
+          {
+            ProgressReporter progress(test + " samples", 1.0, context.comm, std::cout);
+            const auto       start   = std::chrono::steady_clock::now();
+            const auto       samples = sample_strain_space(
+                pattern, test, plan, settings, checkpoint, context.comm,
+                [&](const unsigned done, const unsigned mine, const Sample &s) {
+                  std::ostringstream label;
+                  label << s.key() << ": " << s.outcome.principal << ", " << s.outcome.orthogonal << " ("
+                        << s.outcome.iterations << " its, " << s.outcome.seconds << " s)";
+                  progress.report(double(done) / std::max(1u, mine), label.str());
+                });
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            write_samples(context, test, samples);
+            (test == "in-plane" ? stretch : bend) = directional_limits(samples, plan.directions);
+            // The boundary: samples plus the rest state inside; axes scaled by their sample ranges.
+            std::vector<Eigen::Vector3d> points;
+            Eigen::Vector3d              lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+            std::vector<double>          times;
+            for (const auto &s : samples)
+              {
+                points.push_back(s.point);
+                lo = lo.cwiseMin(s.point), hi = hi.cwiseMax(s.point);
+                times.push_back(s.outcome.seconds);
+              }
+            const Eigen::Vector3d scale = (hi - lo).cwiseMax(1e-9);
+            StrainSpaceBoundary   boundary = star_shaped_boundary(points, Eigen::Vector3d::Zero(), scale);
+            boundary.kind                  = test == "in-plane" ? "stretch" : "bending";
+            if (test == "bending")
+              boundary.axes = {{"kappa_xx", "kappa_yy", "kappa_xy"}};
+            const BoundaryCheck checked = check(boundary);
+            AssertThrow(checked.closed && checked.contains_rest,
+                        ExcMessage("The " + boundary.kind + " boundary is not a closed surface around the rest state "
+                                   "(closed: " + std::to_string(checked.closed) + ", contains rest: " +
+                                   std::to_string(checked.contains_rest) + ")."));
+            std::sort(times.begin(), times.end());
+            const std::string prefix = test == "in-plane" ? "stretch" : "bending";
+            context.summary.add_number(prefix + "_samples", samples.size());
+            context.summary.add_figure(prefix + "_median_seconds_per_sample", times[times.size() / 2], "s");
+            context.summary.add_figure(prefix + "_samples_per_minute", 60.0 * samples.size() / seconds, "1/min");
+            context.summary.add_number(prefix + "_boundary_vertices", checked.vertices);
+            context.summary.add_number(prefix + "_boundary_triangles", checked.triangles);
+            context.summary.add_number(prefix + "_boundary_closed", checked.closed ? 1 : 0);
+            context.summary.add_number(prefix + "_boundary_contains_rest", checked.contains_rest ? 1 : 0);
+            context.summary.add_number(prefix + "_boundary_flipped_triangles", checked.flipped);
+            context.summary.add_figure(prefix + "_boundary_volume", checked.volume, "");
+            if (context.is_root())
+              {
+                std::ostringstream comment;
+                comment << boundary.kind << " boundary of " << pattern.name << " from " << samples.size()
+                        << " native-scale samples (nlmech dim-characterization)\n"
+                        << (test == "in-plane" ? "Green strain components, tensor E_xy" :
+                                                 "curvature tensor components [1/mm], z = 1/2 kappa_ij x_i x_j");
+                write_boundary(context.output.file("boundary-" + prefix + ".ssb"), boundary, comment.str());
+                write_boundary_vtu(boundary, context.output.file("boundary-" + prefix + ".vtu"));
+              }
+            context.pcout << test << ": " << samples.size() << " samples in " << seconds << " s; boundary "
+                          << checked.vertices << " vertices, " << checked.triangles << " triangles, closed, "
+                          << checked.flipped << " flipped" << std::endl;
+          }
+        // Directional limits and the figures of the first direction.
+        double c_min = 1e300, c_max = -1e300;
+        for (unsigned d = 0; d < plan.directions; ++d)
+          {
+            const double theta = 180.0 * d / plan.directions;
+            const auto  &s = stretch[d], &b = bend[d];
+            const double c = travel_metric(s.positive_p, s.negative_p);
+            if (std::count(tests.begin(), tests.end(), "in-plane"))
+              c_min = std::min(c_min, c), c_max = std::max(c_max, c);
+            char line[512];
+            std::snprintf(line, sizeof line, "%.6g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", theta, s.positive_p,
+                          s.positive_o, s.negative_p, s.negative_o, c, b.positive_p, b.positive_o, b.negative_p,
+                          b.negative_o);
+            limits_csv << line;
+          }
+        if (std::count(tests.begin(), tests.end(), "in-plane"))
+          {
+            context.summary.add_figure("stretch_limit_0deg", stretch[0].positive_p, "");
+            context.summary.add_figure("compression_limit_0deg", stretch[0].negative_p, "");
+            context.summary.add_figure("travel_c_min", c_min, "");
+            context.summary.add_figure("travel_c_max", c_max, "");
+          }
+        if (std::count(tests.begin(), tests.end(), "bending"))
+          {
+            context.summary.add_figure("kappa_positive_0deg", bend[0].positive_p, "1/mm");
+            context.summary.add_figure("kappa_negative_0deg", bend[0].negative_p, "1/mm");
+          }
+        context.summary.add_number("mpi_ranks", n_ranks);
+        context.summary.add_number("elements_per_cell", pattern.centres.size());
+        if (context.is_root())
+          {
+            write_file_atomically(context.output.file("limits.csv"), limits_csv.str());
+            write_states(context);
+            const std::string command = std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR +
+                                        "/contrib/plot/dim_limits.py' '" + context.output.file("limits.csv") +
+                                        "' '" + context.output.file("limits-stretch.png") + "' '" +
+                                        context.output.file("limits-bending.png") + "' '" + pattern.name + "'";
+            if (std::system(command.c_str()) != 0)
+              std::cerr << "nlmech: warning: the polar limit plots could not be drawn (python3/matplotlib)."
+                        << std::endl;
+          }
+      }
+
+    private:
+      void write_samples(RunContext &context, const std::string &test, const std::vector<Sample> &samples) const
+      {
+        if (!context.is_root())
+          return;
+        std::ostringstream out;
+        out << "key,theta_deg,kind,level,target_p,target_o,principal,orthogonal,"
+            << (test == "in-plane" ? "E_xx,E_yy,E_xy" : "kappa_xx,kappa_yy,kappa_xy")
+            << ",iterations,seconds,smallest_gap_mm\n";
+        for (const auto &s : samples)
+          {
+            char line[512];
+            std::snprintf(line, sizeof line, "%s,%.6g,%s,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%.4g,%.4g\n",
+                          s.key().c_str(), s.theta / degree, to_string(s.kind).c_str(), s.level, s.target_p,
+                          s.target_o, s.outcome.principal, s.outcome.orthogonal, s.point[0], s.point[1], s.point[2],
+                          s.outcome.iterations, s.outcome.seconds, s.outcome.smallest_gap);
+            out << line;
+          }
+        write_file_atomically(context.output.file("samples-" + test + ".csv"), out.str());
+      }
+
+      /// VTU of the cell (3 x 3 images) at rest and at the stretch limit along x.
+      void write_states(RunContext &context) const
+      {
+        std::vector<std::array<int, 2>> block;
+        for (int i = -1; i <= 1; ++i)
+          for (int j = -1; j <= 1; ++j)
+            block.push_back({i, j});
+        InPlaneTest test(pattern, 0.0, settings);
+        write_elements_vtu(test.assembly(), test.state(), block, context.output.file("cell-rest.vtu"));
+        test.solve(plan.far_strain, settings.target_weight, 0, 0);
+        write_elements_vtu(test.assembly(), test.state(), block, context.output.file("cell-stretch-limit.vtu"));
+      }
+
+      std::string              material_name;
+      double                   density = 1.24e-6;
+      Pattern                  pattern;
+      NativeSolveSettings      settings;
+      SamplingPlan             plan;
+      std::vector<std::string> tests;
+      std::string              checkpoint_directory;
+    };
+  } // namespace
+
+  NLMECH_REGISTER_SCENE(dim_characterization,
+                        (SceneInfo{"dim-characterization",
+                                   "Discrete interlocking materials at native scale: rigid elements with "
+                                   "intersection-free barrier contact, periodic in-plane and paraboloid bending "
+                                   "tests sampled over directions (MPI, checkpointed), strain-space boundaries "
+                                   "(CGAL) and polar limit plots.",
+                                   &DimCharacterizationScene::declare_parameters,
+                                   [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
+                                     return std::make_unique<DimCharacterizationScene>(prm);
+                                   }}))
+} // namespace nlmech
