@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/app/command_line.h>
 #include <nlmech/dim/characterization.h>
 #include <nlmech/solvers/newton/newton_solver.h>
 
@@ -36,7 +37,7 @@ namespace nlmech::dim
         }
       catch (const std::exception &e)
         {
-          AssertThrow(false, dealii::ExcMessage(what + ": the native-scale solve failed: " + e.what()));
+          AssertThrow(false, dealii::ExcMessage(what + ": the native-scale solve failed: " + message_of(e)));
         }
       outcome.seconds      = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       outcome.smallest_gap = assembly.smallest_gap(q, settings.contact.separation + settings.contact.dhat).gap;
@@ -217,12 +218,28 @@ namespace nlmech::dim
   {
     AssertThrow(test == "in-plane" || test == "bending",
                 dealii::ExcMessage("Sampling: the test is 'in-plane' or 'bending', not '" + test + "'."));
-    AssertThrow(plan.directions >= 2, dealii::ExcMessage("Sampling: needs at least two directions."));
+    AssertThrow(plan.directions >= 1, dealii::ExcMessage("Sampling: needs at least one direction."));
     const unsigned rank = dealii::Utilities::MPI::this_mpi_process(comm);
     const unsigned size = dealii::Utilities::MPI::n_mpi_processes(comm);
+    std::string mismatch;
     if (rank == 0)
-      fs::create_directories(checkpoint_directory);
-    MPI_Barrier(comm);
+      {
+        fs::create_directories(checkpoint_directory);
+        const std::string path = checkpoint_directory + "/plan.txt";
+        if (!fs::exists(path))
+          write_file_atomically(path, plan.fingerprint);
+        else
+          {
+            std::ifstream     in(path);
+            const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            if (kept != plan.fingerprint)
+              mismatch = "Sampling: the checkpoint directory '" + checkpoint_directory +
+                         "' holds samples of a different material, contact or sampling plan (see its plan.txt); "
+                         "remove it or choose another 'Checkpoint directory'.";
+          }
+      }
+    mismatch = dealii::Utilities::MPI::broadcast(comm, mismatch, 0);
+    AssertThrow(mismatch.empty(), dealii::ExcMessage(mismatch));
     const double far = test == "in-plane" ? plan.far_strain : plan.far_curvature;
     const double w = settings.target_weight, hold = settings.hold_weight;
     unsigned     new_samples = 0;
@@ -267,7 +284,7 @@ namespace nlmech::dim
             }
           catch (const std::exception &e)
             {
-              error = "Sample " + s.key() + ": " + e.what();
+              error = "Sample " + s.key() + ": " + message_of(e);
             }
         }
       // Agree on errors and on an early stop before anybody reads the checkpoint.
@@ -289,6 +306,7 @@ namespace nlmech::dim
     std::vector<Sample> phase1;
     for (unsigned d = 0; d < plan.directions; ++d)
       for (const SampleKind kind : {SampleKind::positive, SampleKind::negative})
+        if (kind == SampleKind::positive || !plan.positive_only)
         {
           Sample s;
           s.test = test, s.direction = d, s.kind = kind, s.theta = M_PI * d / plan.directions;
@@ -296,6 +314,8 @@ namespace nlmech::dim
           phase1.push_back(s);
         }
     run_phase(phase1);
+    if (plan.positive_only)
+      return phase1;
     std::vector<Sample> phase2;
     for (unsigned d = 0; d < plan.directions; ++d)
       for (unsigned l = 1; l <= plan.levels; ++l)

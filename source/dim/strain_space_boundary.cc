@@ -85,6 +85,10 @@ namespace nlmech::dim
                 dealii::ExcMessage("Strain-space boundary: the sample directions all lie in one plane through the rest "
                                    "state; sample more directions."));
 
+    // A hull of directions that spans no volume: the samples lie in a plane through the rest state.
+    AssertThrow(CGAL::Polygon_mesh_processing::volume(hull) > 1e-6,
+                dealii::ExcMessage("Strain-space boundary: the samples span no volume about the rest state (they lie "
+                                   "in one plane through it); sample at least three directions."));
     StrainSpaceBoundary boundary;
     boundary.rest = rest;
     std::map<Mesh::Vertex_index, unsigned> vertex_number;

@@ -96,7 +96,9 @@ namespace nlmech
         prm.enter_subsection("Sampling");
         prm.declare_entry("Tests", "in-plane, bending", Patterns::MultipleSelection("in-plane|bending"),
                           "Which strain spaces to sample.");
-        prm.declare_entry("Directions", "12", Patterns::Integer(2), "theta_i = i 180 / n deg, i < n.");
+        prm.declare_entry("Directions", "12", Patterns::Integer(1),
+                          "theta_i = i 180 / n deg, i < n (at least 3 for a boundary, so that the samples span "
+                          "the strain space).");
         prm.declare_entry("Levels", "2", Patterns::Integer(0),
                           "Principal values per direction at which the orthogonal limits are sought.");
         prm.declare_entry("Far strain", "0.9", Patterns::Double(0, 0.99),
@@ -108,6 +110,8 @@ namespace nlmech
         prm.declare_entry("Checkpoint directory", "", Patterns::Anything(),
                           "Finished samples are kept here and skipped when the run is repeated (empty: "
                           "'<output directory>.checkpoint').");
+        prm.declare_entry("Positive only", "false", Patterns::Bool(),
+                          "Only the uniaxial stretch (and positive bending) limits, no boundary: validation runs.");
         prm.declare_entry("Stop after", "0", Patterns::Integer(0),
                           "Stop (with an error) after this many new samples, as if killed: 0 never.");
         prm.leave_subsection();
@@ -193,6 +197,19 @@ namespace nlmech
         plan.patch_elements     = prm.get_integer("Patch elements");
         checkpoint_directory    = prm.get("Checkpoint directory");
         plan.stop_after         = prm.get_integer("Stop after");
+        plan.positive_only      = prm.get_bool("Positive only");
+        AssertThrow(plan.positive_only || plan.directions >= 3,
+                    ExcMessage("Sampling: a boundary needs at least 3 directions (or set Positive only)."));
+        prm.leave_subsection();
+        // What the samples depend on, for the checkpoint: every parameter but the output places.
+        std::ostringstream all;
+        prm.print_parameters(all, ParameterHandler::ShortPRM);
+        std::istringstream lines(all.str());
+        for (std::string line; std::getline(lines, line);)
+          if (line.find("Output directory") == std::string::npos && line.find("Stop after") == std::string::npos &&
+              line.find("Checkpoint directory") == std::string::npos)
+            plan.fingerprint += line + "\n";
+        prm.enter_subsection("Sampling");
         AssertThrow(settings.target_weight > 0 && settings.hold_weight > 0,
                     ExcMessage("Sampling: the target and hold weights must be positive."));
         prm.leave_subsection();
@@ -238,6 +255,8 @@ namespace nlmech
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             write_samples(context, test, samples);
             (test == "in-plane" ? stretch : bend) = directional_limits(samples, plan.directions);
+            if (plan.positive_only)
+              continue; // no boundary from one-sided samples
             // The boundary: samples plus the rest state inside; axes scaled by their sample ranges.
             std::vector<Eigen::Vector3d> points;
             Eigen::Vector3d              lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
@@ -309,6 +328,11 @@ namespace nlmech
           {
             context.summary.add_figure("kappa_positive_0deg", bend[0].positive_p, "1/mm");
             context.summary.add_figure("kappa_negative_0deg", bend[0].negative_p, "1/mm");
+            // |kappa+ + kappa-| relative: 0 for elements symmetric through the thickness.
+            context.summary.add_figure("bending_asymmetry_0deg",
+                                       std::abs(bend[0].positive_p + bend[0].negative_p) /
+                                           std::max({std::abs(bend[0].positive_p), std::abs(bend[0].negative_p), 1e-300}),
+                                       "");
           }
         context.summary.add_number("mpi_ranks", n_ranks);
         context.summary.add_number("elements_per_cell", pattern.centres.size());

@@ -33,6 +33,10 @@ def sheet(entries):
             "subsection Time stepping\n  set End time = 0.05\n  set Schemes = SAP\nend\n" + entries)
 
 
+def dim(entries):
+    return "set Scene type = dim-characterization\n" + entries
+
+
 def cases(source):
     data = os.path.join(source, "tests", "data")
     return {
@@ -70,6 +74,14 @@ def cases(source):
                                     "cannot parse the limit formula"),
         "sheet-bad-limit-sample": (sheet("subsection Strain limits\n  set Limit samples = 0:1.02; 90\nend\n"),
                                    "is not of the form angle:limit"),
+        "dim-impossible-link": (dim("subsection Material\n  set Pattern = ring chain\n  subsection Ring chain\n"
+                                    "    set Tube radius = 2.5\n  end\nend\n"), "needs R > 2 r for the rings to link"),
+        "dim-overlapping-elements": (dim("subsection Material\n  subsection Threefold\n    set Spacing = 4.2\n"
+                                         "  end\nend\n"), "overlap in the initial pattern"),
+        "dim-not-interlocked": (dim("subsection Material\n  subsection Threefold\n    set Wave height = 0\n"
+                                    "    set Spacing = 9.5\n  end\nend\n"), "links 0 neighbours instead of 6"),
+        "dim-far-strain-out-of-range": (dim("subsection Sampling\n  set Far strain = 1.5\nend\n"),
+                                        "Far strain"),
         "multi-target-topology": (multi_target(f"  set Target mesh = {os.path.join(data, 'inverted_tet.msh')}\n"),
                                   "not the main target's"),
         "multi-target-moved-support": (multi_target("  set Target displacement = 0.001; 0; 0\n"),

@@ -113,9 +113,15 @@ namespace nlmech::dim
     double       far_curvature  = 0.5; // |target| of a driven curvature [1/mm]
     unsigned int patch_elements = 19;  // disk patch of the bending tests
     bool         in_plane = true, bending = true;
+    /// Only the phase-1 positive samples (uniaxial stretch / positive bending), no boundary: for
+    /// validation runs against closed-form limits.
+    bool positive_only = false;
     /// Stop after this many new samples (0: no limit), as if the run were killed: for tests of
     /// the checkpoint.
     unsigned int stop_after = 0;
+    /// Describes everything the samples depend on (material, contact, plan). It is kept in the
+    /// checkpoint directory; a checkpoint written for another description is refused.
+    std::string fingerprint;
   };
 
   enum class SampleKind
