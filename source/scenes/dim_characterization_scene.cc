@@ -261,8 +261,13 @@ namespace nlmech
             std::vector<Eigen::Vector3d> points;
             Eigen::Vector3d              lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
             std::vector<double>          times;
+            unsigned                     at_target = 0;
             for (const auto &s : samples)
               {
+                // A sample that reaches its far target found no limit: the set extends farther there.
+                if (std::abs(s.outcome.principal - s.target_p) < 1e-6 * std::max(1.0, std::abs(s.target_p)) &&
+                    std::abs(s.outcome.orthogonal - s.target_o) < 1e-6 * std::max(1.0, std::abs(s.target_o)))
+                  ++at_target;
                 points.push_back(s.point);
                 lo = lo.cwiseMin(s.point), hi = hi.cwiseMax(s.point);
                 times.push_back(s.outcome.seconds);
@@ -280,6 +285,7 @@ namespace nlmech
             std::sort(times.begin(), times.end());
             const std::string prefix = test == "in-plane" ? "stretch" : "bending";
             context.summary.add_number(prefix + "_samples", samples.size());
+            context.summary.add_number(prefix + "_samples_at_far_target", at_target);
             context.summary.add_figure(prefix + "_median_seconds_per_sample", times[times.size() / 2], "s");
             context.summary.add_figure(prefix + "_samples_per_minute", 60.0 * samples.size() / seconds, "1/min");
             context.summary.add_number(prefix + "_boundary_vertices", checked.vertices);

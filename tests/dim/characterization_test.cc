@@ -1,11 +1,13 @@
 // Macroscopic tests on native-scale models: strain measures, a rigid rotation gives zero strain,
 // and the periodic ring chain stops at its closed-form stretch limit 2 (R - r) / spacing - 1.
 #include <nlmech/dim/characterization.h>
+#include <nlmech/solvers/newton/newton_solver.h>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 
 using namespace nlmech;
 using namespace nlmech::dim;
@@ -74,4 +76,40 @@ TEST(InPlaneTest, RingChainStopsAtItsClosedFormStretchLimit)
         EXPECT_NEAR(out.principal, expected, 0.005 * expected);
       EXPECT_GT(out.smallest_gap, 0);
     }
+}
+
+TEST(InPlaneTest, NoAcceptedStateNorAnyStateBetweenThemIntersects)
+{
+  // A 4-in-1 cell driven far into compression: large steps, many contacts. Every state Newton
+  // accepts, and 20 states on the straight path between consecutive ones, must keep every surface
+  // gap positive (exact distances).
+  const Pattern   pattern = four_in_one_pattern({}, 1.24e-6);
+  const Eigen::Vector2d dp(1, 0), dn(0, 1);
+  auto            cell = periodic_cell(pattern, {dp * dp.transpose(), dn * dn.transpose()});
+  ContactSettings contact;
+  contact.dhat  = 0.01;
+  contact.kappa = 0.01;
+  Model model(cell.assembly->n_unknowns());
+  model.add_term(std::make_shared<ContactBarrier>(cell.assembly, contact));
+  model.add_term(std::make_shared<ParameterTarget>(cell.assembly->parameter_index(0), std::vector<double>{-0.9, 0.0},
+                                                   std::vector<double>{0.01, 0.0}));
+  for (unsigned k = 0; k < 3; ++k)
+    model.fix(k, cell.q[k]);
+  std::vector<Eigen::VectorXd> states{cell.q};
+  NewtonSettings               newton;
+  newton.max_iterations = 600;
+  newton.step_tolerance = 1e-9;
+  newton.shift_metric   = cell.assembly->motion_metric(cell.q);
+  newton.on_accepted    = [&](const Eigen::VectorXd &x) { states.push_back(x); };
+  Eigen::VectorXd q = cell.q;
+  minimize_with_newton(model, q, newton);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k + 1 < states.size(); ++k)
+    for (int j = 0; j <= 20; ++j)
+      smallest = std::min(smallest,
+                          cell.assembly->smallest_gap(states[k] + j / 20.0 * (states[k + 1] - states[k]), 1.0).gap);
+  std::printf("4-in-1 compression: %zu accepted states, eps_p %.4f, smallest gap on the path %.3e mm\n",
+              states.size() - 1, q[cell.assembly->parameter_index(0)], smallest);
+  EXPECT_GT(states.size(), 5u);
+  EXPECT_GT(smallest, 0.0);
 }

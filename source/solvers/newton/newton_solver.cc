@@ -44,6 +44,7 @@ namespace nlmech
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
     long                                                     analysed_nonzeros = -1;
     double                                                   last_shift        = 0;
+    unsigned int                                             short_steps       = 0;
     cholesky.cholmod().print = 0; // silent: "not positive definite" is expected and handled by the shift
 
     for (result.iterations = 0;; ++result.iterations)
@@ -134,6 +135,8 @@ namespace nlmech
                 x        = trial;
                 energy   = trial_energy;
                 accepted = true;
+                if (settings.on_accepted)
+                  settings.on_accepted(x);
                 break;
               }
           }
@@ -153,7 +156,9 @@ namespace nlmech
         AssertThrow(accepted, dealii::ExcMessage("Newton: the line search found no decrease (gradient norm " +
                                                  std::to_string(g.norm()) + ")."));
         g = free_gradient(x);
-        if (settings.grow_shift_on_short_steps && safe < 0.5)
+        // Two short (collision-bounded) steps in a row: damp the near-null directions harder.
+        short_steps = safe < 0.5 ? short_steps + 1 : 0;
+        if (settings.grow_shift_on_short_steps && short_steps >= 2)
           last_shift = 100 * std::max(shift, shift_floor);
         if (settings.step_tolerance > 0 && alpha == 1.0 && dx.lpNorm<Eigen::Infinity>() <= settings.step_tolerance)
           {

@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include <functional>
+
 namespace nlmech
 {
   struct NewtonSettings
@@ -23,14 +25,16 @@ namespace nlmech
     /// curvature, far above any useful absolute tolerance.
     double step_tolerance = 0;
     /// Levenberg-Marquardt-like damping of near-null directions: when the safe step (a collision
-    /// bound) cuts a step below half, the next shift starts ten times higher (it still falls by ten
-    /// per unhindered iteration). Without it, a Hessian that is singular along free motions (slack
+    /// bound) cuts two steps in a row below half, the next shift starts ten times higher (it still
+    /// falls by ten per unhindered iteration). Without it, a Hessian that is singular along free motions (slack
     /// elements in contact problems) gives huge steps that the collision bound cuts to crawling.
     bool grow_shift_on_short_steps = false;
     /// Per-unknown weights of the diagonal shift (empty: identity). Unknowns of different kinds
     /// (lengths, angles, strains) need a shift in consistent units: the squared length of motion a
     /// unit change of each causes.
     Eigen::VectorXd shift_metric;
+    /// Called with every accepted state (for checks and monitoring).
+    std::function<void(const Eigen::VectorXd &)> on_accepted;
   };
 
   struct NewtonResult
