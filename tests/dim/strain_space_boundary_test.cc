@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -90,7 +91,12 @@ TEST(StrainSpaceBoundary, FileRoundTripAndMalformedFiles)
     }
   catch (const std::exception &e)
     {
-      EXPECT_NE(std::string(e.what()).find("refers to a missing vertex"), std::string::npos);
+      // deal.II wraps its messages: compare with the whitespace collapsed.
+      std::string text;
+      for (const char ch : std::string(e.what()))
+        if (!std::isspace(static_cast<unsigned char>(ch)) || (!text.empty() && text.back() != ' '))
+          text += std::isspace(static_cast<unsigned char>(ch)) ? ' ' : ch;
+      EXPECT_NE(text.find("refers to a missing vertex"), std::string::npos) << text;
     }
   std::ofstream("truncated.ssb") << "nlmech-strain-space-boundary 1\nkind stretch\n";
   EXPECT_THROW(read_boundary("truncated.ssb"), std::exception);
