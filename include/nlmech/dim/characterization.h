@@ -29,7 +29,7 @@ namespace nlmech::dim
     double          target_weight  = 1.0;  // w of the driven component [N mm]
     double          hold_weight    = 100.0; // w of a component held at a level [N mm]
     unsigned int    max_iterations = 400;
-    double          step_tolerance = 1e-9; // mm and rad
+    double          step_tolerance = 1e-7; // mm and rad (projected Newton converges linearly at the end)
     double          gravity        = 9.81e-3; // N/kg, so that m g z is in N mm with z in mm
   };
 

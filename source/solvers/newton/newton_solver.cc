@@ -106,8 +106,15 @@ namespace nlmech
           {
             if (try_solve(Hf, shift))
               break;
-            AssertThrow(attempt < 20,
-                        dealii::ExcMessage("Newton: the Hessian could not be made positive definite."));
+            if (attempt >= 20)
+              {
+                bool finite = true;
+                for (Eigen::Index k = 0; k < Hf.nonZeros(); ++k)
+                  finite = finite && std::isfinite(Hf.valuePtr()[k]);
+                AssertThrow(false, dealii::ExcMessage(finite ? "Newton: the Hessian could not be made positive "
+                                                               "definite (shift " + std::to_string(shift) + ")." :
+                                                               "Newton: the Hessian has non-finite entries."));
+              }
             shift = (shift == 0 ? shift_floor : 10 * shift);
           }
         last_shift = shift;
@@ -159,7 +166,7 @@ namespace nlmech
         // Two short (collision-bounded) steps in a row: damp the near-null directions harder.
         short_steps = safe < 0.5 ? short_steps + 1 : 0;
         if (settings.grow_shift_on_short_steps && short_steps >= 2)
-          last_shift = 100 * std::max(shift, shift_floor);
+          last_shift = std::min(100 * std::max(shift, shift_floor), 1e3 * std::max(diagonal_scale, 1e-300));
         if (settings.step_tolerance > 0 && alpha == 1.0 && dx.lpNorm<Eigen::Infinity>() <= settings.step_tolerance)
           {
             ++result.iterations;
