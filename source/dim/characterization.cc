@@ -261,19 +261,34 @@ namespace nlmech::dim
           Sample &s = jobs[open[k]];
           try
             {
+              const bool uniaxial = s.kind == SampleKind::positive || s.kind == SampleKind::negative;
+              // One solve from rest; if it fails, once more in two stages (half the way to the target
+              // first, then on from there), which avoids most slides that stall.
+              auto drive = [&](auto &t) {
+                try
+                  {
+                    return uniaxial ? t.solve(s.target_p, w, 0.0, 0.0) : t.solve(s.target_p, hold, s.target_o, w);
+                  }
+                catch (const std::exception &)
+                  {
+                    if (uniaxial)
+                      t.solve(0.5 * s.target_p, w, 0.0, 0.0);
+                    else
+                      t.solve(s.target_p, hold, 0.5 * s.target_o, w);
+                    TestOutcome o = uniaxial ? t.solve(s.target_p, w, 0.0, 0.0, true)
+                                             : t.solve(s.target_p, hold, s.target_o, w, true);
+                    return o;
+                  }
+              };
               if (test == "in-plane")
                 {
                   InPlaneTest t(pattern, s.theta, settings);
-                  s.outcome = s.kind == SampleKind::positive || s.kind == SampleKind::negative
-                                  ? t.solve(s.target_p, w, 0.0, 0.0)
-                                  : t.solve(s.target_p, hold, s.target_o, w);
+                  s.outcome = drive(t);
                 }
               else
                 {
                   BendingTest t(pattern, plan.patch_elements, s.theta, settings);
-                  s.outcome = s.kind == SampleKind::positive || s.kind == SampleKind::negative
-                                  ? t.solve(s.target_p, w, 0.0, 0.0)
-                                  : t.solve(s.target_p, hold, s.target_o, w);
+                  s.outcome = drive(t);
                 }
               AssertThrow(std::isfinite(s.outcome.principal) && std::isfinite(s.outcome.orthogonal),
                           dealii::ExcMessage("Sampling: a test returned a non-finite result."));

@@ -98,6 +98,9 @@ namespace nlmech
           if (cholesky.info() != Eigen::Success)
             return false;
           dx_free = cholesky.solve(-g);
+          if (std::getenv("NLMECH_NEWTON_DEBUG") && !(dx_free.dot(g) < 0))
+            std::fprintf(stderr, "newton: shift %.3e factorised but gives no descent (dx.g = %.3e, |dx| = %.3e)\n",
+                         shift, dx_free.dot(g), dx_free.norm());
           return dx_free.dot(g) < 0;
         };
         const double shift_floor = 1e-8 * (diagonal_scale > 0 ? diagonal_scale : 1.0);
