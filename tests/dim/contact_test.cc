@@ -1,6 +1,7 @@
 // Native-scale contact of rigid interlocking elements: barrier derivatives against finite
 // differences for every placement and primitive type, distances against closed forms, and two linked
 // tori pulled apart, whose largest centre distance is 2 (R - r) (the inner edges of the two holes touch).
+#include <nlmech/dim/patterns.h>
 #include <nlmech/dim/rigid_assembly.h>
 #include <nlmech/models/model.h>
 #include <nlmech/solvers/newton/newton_solver.h>
@@ -237,4 +238,45 @@ TEST(LinkedTori, LargestCentreDistanceIsTwiceTheHoleRadius)
               assembly->smallest_gap(q).gap);
   EXPECT_NEAR(distance, expected, 0.005 * expected);
   EXPECT_GT(assembly->smallest_gap(q).gap, 0.0);
+}
+
+TEST(LinkedTori, TightAndImpossibleLinksAreRejectedAndTheFreeRangeClosesAtRIsTwoR)
+{
+  // R < 2 r: the tube cannot pass through the hole. R = 2 r: locked tight (zero free range).
+  EXPECT_THROW(linked_ring_pair(1.9, 1, 32, 1e-6), std::exception);
+  EXPECT_THROW(linked_ring_pair(2.0, 1, 32, 1e-6), std::exception);
+  // Just above R = 2 r the pair is valid, and its free range of centre distance along the axis with
+  // the rings held perpendicular, [2 r, 2 (R - r)], shrinks to zero as R -> 2 r: pushing and pulling
+  // ring B (only its x free) stop at both ends.
+  for (const double R : {2.4, 2.1})
+    {
+      const double r      = 1;
+      const auto   placed = linked_ring_pair(R, r, 128, 1e-6);
+      ASSERT_GT(placed.assembly->smallest_gap(placed.q).gap, 0);
+      std::array<double, 2> ends{};
+      for (int side = 0; side < 2; ++side)
+        {
+          ContactSettings settings;
+          settings.dhat  = 1e-3;
+          settings.kappa = 1e-2;
+          Model model(placed.assembly->n_unknowns());
+          model.add_term(std::make_shared<ContactBarrier>(placed.assembly, settings));
+          model.add_term(std::make_shared<CentreForces>(
+              placed.assembly,
+              std::vector<Eigen::Vector3d>{Eigen::Vector3d::Zero(), Eigen::Vector3d(side == 0 ? 1e-3 : -1e-3, 0, 0)}));
+          for (unsigned k = 0; k < 12; ++k)
+            if (k != 6)
+              model.fix(k, placed.q[k]);
+          Eigen::VectorXd q = placed.q;
+          NewtonSettings  newton;
+          newton.max_iterations = 200;
+          newton.step_tolerance = 1e-10;
+          minimize_with_newton(model, q, newton);
+          ends[side] = q[6];
+        }
+      std::printf("R = %.1f r: centre distance from %.4f to %.4f mm (closed form %.4f to %.4f)\n", R, ends[1], ends[0],
+                  2 * r, 2 * (R - r));
+      EXPECT_NEAR(ends[0], 2 * (R - r), 0.005 * 2 * (R - r));
+      EXPECT_NEAR(ends[1], 2 * r, 0.005 * 2 * r);
+    }
 }
