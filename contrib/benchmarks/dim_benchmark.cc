@@ -29,18 +29,20 @@ namespace
 int main(int argc, char **argv)
 {
   MPI_Init(&argc, &argv);
-  const unsigned repeats = argc > 1 ? std::atoi(argv[1]) : 3;
-  const unsigned largest = argc > 2 ? std::atoi(argv[2]) : 61;
-  const double   density = 1.24e-6;
+  const unsigned      repeats = argc > 1 ? std::atoi(argv[1]) : 3;
+  const unsigned      largest = argc > 2 ? std::atoi(argv[2]) : 61;
+  const double        density = 1.24e-6;
   NativeSolveSettings settings;
-  settings.contact.dhat  = 0.01;
-  settings.contact.kappa = 0.01;
+  settings.contact.dhat   = 0.01;
+  settings.contact.kappa  = 0.01;
   settings.max_iterations = 2000;
 
-  std::printf("Bending test (kappa target +0.5 /mm along x, gravity), threefold chainmail disk patches; medians "
-              "of %u runs\n",
-              repeats);
-  std::printf("| elements | unknowns | time per test | Newton iterations | kappa_p [1/mm] | kappa_o [1/mm] |\n");
+  std::printf(
+      "Bending test (kappa target +0.5 /mm along x, gravity), threefold chainmail disk patches; medians "
+      "of %u runs\n",
+      repeats);
+  std::printf(
+      "| elements | unknowns | time per test | Newton iterations | kappa_p [1/mm] | kappa_o [1/mm] |\n");
   std::printf("|---|---|---|---|---|---|\n");
   const Pattern threefold = threefold_pattern({}, density);
   for (const unsigned n : {7u, 19u, 37u, 61u})
@@ -55,14 +57,16 @@ int main(int argc, char **argv)
           out = test.solve(0.5, settings.target_weight, 0.0, 0.0);
           t.push_back(out.seconds);
         }
-      std::printf("| %u | %u | %.2f s | %u | %.4f | %.4f |\n", n, 6 * n + 2, median(t), out.iterations, out.principal,
-                  out.orthogonal);
+      std::printf("| %u | %u | %.2f s | %u | %.4f | %.4f |\n", n, 6 * n + 2, median(t), out.iterations,
+                  out.principal, out.orthogonal);
       std::fflush(stdout);
     }
 
-  std::printf("\nIn-plane tests on periodic cells (theta = 0, orthogonal strain free); medians of %u runs\n", repeats);
-  std::printf("| material | elements per cell | stretch test | iterations | eps_s | compression test | iterations | "
-              "eps_c | c (eq. 4.4.1) |\n");
+  std::printf("\nIn-plane tests on periodic cells (theta = 0, orthogonal strain free); medians of %u runs\n",
+              repeats);
+  std::printf(
+      "| material | elements per cell | stretch test | iterations | eps_s | compression test | iterations | "
+      "eps_c | c (eq. 4.4.1) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const Pattern &p : {four_in_one_pattern({}, density), threefold, torus_knot_pattern({}, density),
                            scale_mail_pattern({}, density)})
@@ -76,9 +80,9 @@ int main(int argc, char **argv)
           c = test.solve(-0.9, settings.target_weight, 0, 0);
           ts.push_back(s.seconds), tc.push_back(c.seconds);
         }
-      std::printf("| %s | %zu | %.3f s | %u | %.4f | %.3f s | %u | %.4f | %.4f |\n", p.name.c_str(), p.centres.size(),
-                  median(ts), s.iterations, s.principal, median(tc), c.iterations, c.principal,
-                  travel_metric(s.principal, c.principal));
+      std::printf("| %s | %zu | %.3f s | %u | %.4f | %.3f s | %u | %.4f | %.4f |\n", p.name.c_str(),
+                  p.centres.size(), median(ts), s.iterations, s.principal, median(tc), c.iterations,
+                  c.principal, travel_metric(s.principal, c.principal));
       std::fflush(stdout);
     }
   MPI_Finalize();

@@ -17,7 +17,8 @@ namespace nlmech::dim
   {
     std::pair<Eigen::Vector2d, Eigen::Vector2d> principal_frame(const double theta)
     {
-      return {Eigen::Vector2d(std::cos(theta), std::sin(theta)), Eigen::Vector2d(-std::sin(theta), std::cos(theta))};
+      return {Eigen::Vector2d(std::cos(theta), std::sin(theta)),
+              Eigen::Vector2d(-std::sin(theta), std::cos(theta))};
     }
 
     TestOutcome minimise(const Model &model, const RigidAssembly &assembly, Eigen::VectorXd &q,
@@ -25,8 +26,8 @@ namespace nlmech::dim
     {
       const auto     start = std::chrono::steady_clock::now();
       NewtonSettings newton;
-      newton.max_iterations = settings.max_iterations;
-      newton.step_tolerance = settings.step_tolerance;
+      newton.max_iterations            = settings.max_iterations;
+      newton.step_tolerance            = settings.step_tolerance;
       newton.grow_shift_on_short_steps = true; // sliding contacts otherwise crawl at collision-bounded steps
       newton.shift_metric              = assembly.motion_metric(q);
       TestOutcome outcome;
@@ -39,10 +40,11 @@ namespace nlmech::dim
         {
           AssertThrow(false, dealii::ExcMessage(what + ": the native-scale solve failed: " + message_of(e)));
         }
-      outcome.seconds      = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      outcome.smallest_gap = assembly.smallest_gap(q, settings.contact.separation + settings.contact.dhat).gap;
-      outcome.principal    = q[assembly.parameter_index(0)];
-      outcome.orthogonal   = q[assembly.parameter_index(1)];
+      outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      outcome.smallest_gap =
+          assembly.smallest_gap(q, settings.contact.separation + settings.contact.dhat).gap;
+      outcome.principal  = q[assembly.parameter_index(0)];
+      outcome.orthogonal = q[assembly.parameter_index(1)];
       return outcome;
     }
   } // namespace
@@ -56,13 +58,14 @@ namespace nlmech::dim
   Eigen::Vector3d green_strain(const double theta, const double eps_p, const double eps_o)
   {
     const auto [dp, d_o] = principal_frame(theta);
-    const Eigen::Matrix2d U = Eigen::Matrix2d::Identity() + eps_p * dp * dp.transpose() + eps_o * d_o * d_o.transpose();
+    const Eigen::Matrix2d U =
+        Eigen::Matrix2d::Identity() + eps_p * dp * dp.transpose() + eps_o * d_o * d_o.transpose();
     return green_strain(U);
   }
 
   Eigen::Vector3d curvature_tensor(const double theta, const double kappa_p, const double kappa_o)
   {
-    const auto [dp, d_o] = principal_frame(theta);
+    const auto [dp, d_o]    = principal_frame(theta);
     const Eigen::Matrix2d K = kappa_p * dp * dp.transpose() + kappa_o * d_o * d_o.transpose();
     return {K(0, 0), K(1, 1), K(0, 1)};
   }
@@ -99,13 +102,15 @@ namespace nlmech::dim
     const auto &assembly = *cell.assembly;
     Model       model(assembly.n_unknowns());
     model.add_term(std::make_shared<ContactBarrier>(cell.assembly, settings.contact));
-    model.add_term(std::make_shared<ParameterTarget>(assembly.parameter_index(0), std::vector<double>{target_p, target_o},
+    model.add_term(std::make_shared<ParameterTarget>(assembly.parameter_index(0),
+                                                     std::vector<double>{target_p, target_o},
                                                      std::vector<double>{weight_p, weight_o}));
     // A translation of the whole cell is a null mode: hold the first element's centre.
     for (unsigned k = 0; k < 3; ++k)
       model.fix(k, q[k]);
     std::ostringstream what;
-    what << "In-plane test (theta = " << angle * 180 / M_PI << " deg, targets " << target_p << ", " << target_o << ")";
+    what << "In-plane test (theta = " << angle * 180 / M_PI << " deg, targets " << target_p << ", "
+         << target_o << ")";
     return minimise(model, assembly, q, settings, what.str());
   }
 
@@ -114,10 +119,11 @@ namespace nlmech::dim
       : angle(theta)
       , settings(s)
   {
-    patch               = finite_patch(pattern, n_elements, PatchShape::disk, Placement::paraboloid);
-    const double c      = std::cos(theta), sn = std::sin(theta);
+    patch          = finite_patch(pattern, n_elements, PatchShape::disk, Placement::paraboloid);
+    const double c = std::cos(theta), sn = std::sin(theta);
     // (A, B, C) = A' (c^2, s^2, 2 c s) + B' (s^2, c^2, -2 c s): z = A' x'^2 + B' y'^2 in the rotated frame.
-    patch.assembly->set_curvature_basis({Eigen::Vector3d(c * c, sn * sn, 2 * c * sn), Eigen::Vector3d(sn * sn, c * c, -2 * c * sn)});
+    patch.assembly->set_curvature_basis(
+        {Eigen::Vector3d(c * c, sn * sn, 2 * c * sn), Eigen::Vector3d(sn * sn, c * c, -2 * c * sn)});
     patch.q.conservativeResize(patch.assembly->n_unknowns());
     patch.q.tail(patch.assembly->n_parameters()).setZero();
     check_initial_state(*patch.assembly, patch.q, settings.contact.separation);
@@ -144,7 +150,8 @@ namespace nlmech::dim
       model.fix(6 * b + 2, 0.0);
     model.fix(0, q[0]), model.fix(1, q[1]), model.fix(5, q[5]);
     std::ostringstream what;
-    what << "Bending test (theta = " << angle * 180 / M_PI << " deg, targets " << target_p << ", " << target_o << ")";
+    what << "Bending test (theta = " << angle * 180 / M_PI << " deg, targets " << target_p << ", " << target_o
+         << ")";
     TestOutcome outcome = minimise(model, assembly, q, settings, what.str());
     outcome.principal *= 2, outcome.orthogonal *= 2;
     return outcome;
@@ -174,7 +181,8 @@ namespace nlmech::dim
   std::string Sample::key() const
   {
     char name[96];
-    std::snprintf(name, sizeof name, "%s-d%03u-%s-l%02u", test.c_str(), direction, dim::to_string(kind).c_str(), level);
+    std::snprintf(name, sizeof name, "%s-d%03u-%s-l%02u", test.c_str(), direction,
+                  dim::to_string(kind).c_str(), level);
     return name;
   }
 
@@ -186,8 +194,8 @@ namespace nlmech::dim
     {
       char line[512];
       std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %u %.6g %.6g\n", s.theta, s.target_p,
-                    s.target_o, s.outcome.principal, s.outcome.orthogonal, s.outcome.iterations, s.outcome.seconds,
-                    s.outcome.smallest_gap);
+                    s.target_o, s.outcome.principal, s.outcome.orthogonal, s.outcome.iterations,
+                    s.outcome.seconds, s.outcome.smallest_gap);
       return line;
     }
     bool read_record(const std::string &path, Sample &s)
@@ -211,17 +219,17 @@ namespace nlmech::dim
     }
   } // namespace
 
-  std::vector<Sample> sample_strain_space(const Pattern &pattern, const std::string &test, const SamplingPlan &plan,
-                                          const NativeSolveSettings &settings, const std::string &checkpoint_directory,
-                                          MPI_Comm                                                       comm,
-                                          const std::function<void(unsigned, unsigned, const Sample &)> &progress)
+  std::vector<Sample>
+  sample_strain_space(const Pattern &pattern, const std::string &test, const SamplingPlan &plan,
+                      const NativeSolveSettings &settings, const std::string &checkpoint_directory,
+                      MPI_Comm comm, const std::function<void(unsigned, unsigned, const Sample &)> &progress)
   {
     AssertThrow(test == "in-plane" || test == "bending",
                 dealii::ExcMessage("Sampling: the test is 'in-plane' or 'bending', not '" + test + "'."));
     AssertThrow(plan.directions >= 1, dealii::ExcMessage("Sampling: needs at least one direction."));
     const unsigned rank = dealii::Utilities::MPI::this_mpi_process(comm);
     const unsigned size = dealii::Utilities::MPI::n_mpi_processes(comm);
-    std::string mismatch;
+    std::string    mismatch;
     if (rank == 0)
       {
         fs::create_directories(checkpoint_directory);
@@ -233,9 +241,10 @@ namespace nlmech::dim
             std::ifstream     in(path);
             const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
             if (kept != plan.fingerprint)
-              mismatch = "Sampling: the checkpoint directory '" + checkpoint_directory +
-                         "' holds samples of a different material, contact or sampling plan (see its plan.txt); "
-                         "remove it or choose another 'Checkpoint directory'.";
+              mismatch =
+                  "Sampling: the checkpoint directory '" + checkpoint_directory +
+                  "' holds samples of a different material, contact or sampling plan (see its plan.txt); "
+                  "remove it or choose another 'Checkpoint directory'.";
           }
       }
     mismatch = dealii::Utilities::MPI::broadcast(comm, mismatch, 0);
@@ -267,7 +276,8 @@ namespace nlmech::dim
               auto drive = [&](auto &t) {
                 try
                   {
-                    return uniaxial ? t.solve(s.target_p, w, 0.0, 0.0) : t.solve(s.target_p, hold, s.target_o, w);
+                    return uniaxial ? t.solve(s.target_p, w, 0.0, 0.0)
+                                    : t.solve(s.target_p, hold, s.target_o, w);
                   }
                 catch (const std::exception &)
                   {
@@ -306,14 +316,16 @@ namespace nlmech::dim
       const auto errors = dealii::Utilities::MPI::all_gather(comm, error);
       for (const auto &e : errors)
         AssertThrow(e.empty(), dealii::ExcMessage(e));
-      const unsigned stopped = dealii::Utilities::MPI::max(
-          unsigned(plan.stop_after > 0 && new_samples >= plan.stop_after), comm);
-      AssertThrow(stopped == 0, dealii::ExcMessage("Sampling stopped after " + std::to_string(plan.stop_after) +
-                                                   " new samples, as asked ('Stop after'); run again to resume."));
+      const unsigned stopped =
+          dealii::Utilities::MPI::max(unsigned(plan.stop_after > 0 && new_samples >= plan.stop_after), comm);
+      AssertThrow(stopped == 0,
+                  dealii::ExcMessage("Sampling stopped after " + std::to_string(plan.stop_after) +
+                                     " new samples, as asked ('Stop after'); run again to resume."));
       for (auto &s : jobs)
         {
-          AssertThrow(read_record(checkpoint_directory + "/" + s.key() + ".sample", s),
-                      dealii::ExcMessage("Sampling: the checkpoint of " + s.key() + " is missing or unreadable."));
+          AssertThrow(
+              read_record(checkpoint_directory + "/" + s.key() + ".sample", s),
+              dealii::ExcMessage("Sampling: the checkpoint of " + s.key() + " is missing or unreadable."));
           set_point(s);
         }
     };
@@ -322,12 +334,12 @@ namespace nlmech::dim
     for (unsigned d = 0; d < plan.directions; ++d)
       for (const SampleKind kind : {SampleKind::positive, SampleKind::negative})
         if (kind == SampleKind::positive || !plan.positive_only)
-        {
-          Sample s;
-          s.test = test, s.direction = d, s.kind = kind, s.theta = M_PI * d / plan.directions;
-          s.target_p = kind == SampleKind::positive ? far : -far;
-          phase1.push_back(s);
-        }
+          {
+            Sample s;
+            s.test = test, s.direction = d, s.kind = kind, s.theta = M_PI * d / plan.directions;
+            s.target_p = kind == SampleKind::positive ? far : -far;
+            phase1.push_back(s);
+          }
     run_phase(phase1);
     if (plan.positive_only)
       return phase1;
@@ -348,7 +360,8 @@ namespace nlmech::dim
     return phase1;
   }
 
-  std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples, const unsigned int directions)
+  std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples,
+                                                    const unsigned int         directions)
   {
     std::vector<DirectionalLimits> limits(directions);
     for (const auto &s : samples)

@@ -7,12 +7,15 @@ namespace nlmech::dim
 {
   namespace
   {
-    dealii::Point<3> point(const Eigen::Vector3d &x) { return dealii::Point<3>(x[0], x[1], x[2]); }
+    dealii::Point<3> point(const Eigen::Vector3d &x)
+    {
+      return dealii::Point<3>(x[0], x[1], x[2]);
+    }
   } // namespace
 
   RawSimplexMesh<3> element_surfaces(const RigidAssembly &assembly, const Eigen::VectorXd &q,
-                                     const std::vector<std::array<int, 2>> &images, std::vector<double> &element,
-                                     const unsigned int sides)
+                                     const std::vector<std::array<int, 2>> &images,
+                                     std::vector<double> &element, const unsigned int sides)
   {
     RawSimplexMesh<3> mesh;
     element.clear();
@@ -31,8 +34,8 @@ namespace nlmech::dim
           if (n >= 3)
             {
               // Tube: rings of `sides` points in planes normal to the centreline, parallel transported.
-              const double    r = shape.segment_radius.front();
-              Eigen::Vector3d t0 = (x[loop[1]] - x[loop[n - 1]]).normalized();
+              const double    r      = shape.segment_radius.front();
+              Eigen::Vector3d t0     = (x[loop[1]] - x[loop[n - 1]]).normalized();
               Eigen::Vector3d normal = t0.unitOrthogonal();
               const unsigned  first  = mesh.vertices.size();
               for (std::size_t i = 0; i < n; ++i)
@@ -60,8 +63,8 @@ namespace nlmech::dim
           for (std::size_t f = 0; f < shape.triangles.size(); ++f)
             {
               const auto           &tri = shape.triangles[f];
-              const Eigen::Vector3d nrm =
-                  (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]).normalized() * shape.triangle_radius[f];
+              const Eigen::Vector3d nrm = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]).normalized() *
+                                          shape.triangle_radius[f];
               const unsigned first = mesh.vertices.size();
               for (const unsigned v : tri)
                 mesh.vertices.push_back(point(x[v] + nrm));
@@ -84,8 +87,8 @@ namespace nlmech::dim
   {
     std::vector<double>     element;
     const RawSimplexMesh<3> mesh = element_surfaces(assembly, q, images, element);
-    write_vertex_fields_vtu(mesh, {}, {{"element", Eigen::Map<const Eigen::VectorXd>(element.data(), element.size())}},
-                            path);
+    write_vertex_fields_vtu(
+        mesh, {}, {{"element", Eigen::Map<const Eigen::VectorXd>(element.data(), element.size())}}, path);
   }
 
   void write_boundary_vtu(const StrainSpaceBoundary &boundary, const std::string &path)

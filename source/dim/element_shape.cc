@@ -55,7 +55,8 @@ namespace nlmech::dim
   {
     double v = 0;
     for (std::size_t s = 0; s < segments.size(); ++s)
-      v += M_PI * segment_radius[s] * segment_radius[s] * (points[segments[s][1]] - points[segments[s][0]]).norm();
+      v += M_PI * segment_radius[s] * segment_radius[s] *
+           (points[segments[s][1]] - points[segments[s][0]]).norm();
     for (std::size_t t = 0; t < triangles.size(); ++t)
       {
         const auto &[a, b, c] = triangles[t];
@@ -78,7 +79,7 @@ namespace nlmech::dim
     for (std::size_t t = 0; t < triangles.size(); ++t)
       {
         const auto &[a, b, c] = triangles[t];
-        const double vt       = triangle_radius[t] * (points[b] - points[a]).cross(points[c] - points[a]).norm();
+        const double vt = triangle_radius[t] * (points[b] - points[a]).cross(points[c] - points[a]).norm();
         m += vt * (points[a] + points[b] + points[c]) / 3;
         v += vt;
       }
@@ -95,7 +96,8 @@ namespace nlmech::dim
 
   ElementShape torus_ring(const double R, const double r, const unsigned int N, const double density)
   {
-    AssertThrow(R > 0 && r > 0 && r < R, dealii::ExcMessage("Torus ring: needs 0 < tube radius r < major radius R."));
+    AssertThrow(R > 0 && r > 0 && r < R,
+                dealii::ExcMessage("Torus ring: needs 0 < tube radius r < major radius R."));
     AssertThrow(N >= 8, dealii::ExcMessage("Torus ring: needs at least 8 centreline segments."));
     ElementShape shape;
     shape.name = "torus ring";
@@ -105,18 +107,20 @@ namespace nlmech::dim
     return shape;
   }
 
-  ElementShape torus_knot(const unsigned int p, const unsigned int q, const double R, const double a, const double r,
-                          const unsigned int N, const double density)
+  ElementShape torus_knot(const unsigned int p, const unsigned int q, const double R, const double a,
+                          const double r, const unsigned int N, const double density)
   {
     AssertThrow(p >= 1 && q >= 1 && std::gcd(p, q) == 1,
                 dealii::ExcMessage("Torus knot: p and q must be positive and coprime."));
-    AssertThrow(R > 0 && a > 0 && a < R && r > 0, dealii::ExcMessage("Torus knot: needs 0 < a < R and r > 0."));
-    AssertThrow(N >= 8 * (p + q), dealii::ExcMessage("Torus knot: needs at least 8 (p + q) centreline segments."));
+    AssertThrow(R > 0 && a > 0 && a < R && r > 0,
+                dealii::ExcMessage("Torus knot: needs 0 < a < R and r > 0."));
+    AssertThrow(N >= 8 * (p + q),
+                dealii::ExcMessage("Torus knot: needs at least 8 (p + q) centreline segments."));
     std::vector<Eigen::Vector3d> points;
     double                       worst_chord = 0;
-    auto curve = [&](const double t) {
-      return Eigen::Vector3d((R + a * std::cos(q * t)) * std::cos(p * t), (R + a * std::cos(q * t)) * std::sin(p * t),
-                             -a * std::sin(q * t));
+    auto                         curve       = [&](const double t) {
+      return Eigen::Vector3d((R + a * std::cos(q * t)) * std::cos(p * t),
+                                                           (R + a * std::cos(q * t)) * std::sin(p * t), -a * std::sin(q * t));
     };
     for (unsigned int i = 0; i < N; ++i)
       {
@@ -124,7 +128,7 @@ namespace nlmech::dim
         points.push_back(curve(t0));
         // Sagitta of the chord, measured at the curve's midpoint.
         const Eigen::Vector3d mid = curve(0.5 * (t0 + t1)), chord_mid = 0.5 * (curve(t0) + curve(t1));
-        worst_chord               = std::max(worst_chord, (mid - chord_mid).norm());
+        worst_chord = std::max(worst_chord, (mid - chord_mid).norm());
       }
     ElementShape shape;
     shape.name = "(" + std::to_string(p) + "," + std::to_string(q) + ") torus knot";
@@ -135,12 +139,14 @@ namespace nlmech::dim
     return shape;
   }
 
-  ElementShape wave_ring(const double R, const double r, const double h, const unsigned int k, const double phase,
-                         const unsigned int N, const double density)
+  ElementShape wave_ring(const double R, const double r, const double h, const unsigned int k,
+                         const double phase, const unsigned int N, const double density)
   {
-    AssertThrow(R > 0 && r > 0 && r < R, dealii::ExcMessage("Wave ring: needs 0 < tube radius r < ring radius R."));
+    AssertThrow(R > 0 && r > 0 && r < R,
+                dealii::ExcMessage("Wave ring: needs 0 < tube radius r < ring radius R."));
     AssertThrow(h >= 0, dealii::ExcMessage("Wave ring: the wave height must not be negative."));
-    AssertThrow(N >= std::max(8u, 8 * k), dealii::ExcMessage("Wave ring: needs at least 8 k centreline segments."));
+    AssertThrow(N >= std::max(8u, 8 * k),
+                dealii::ExcMessage("Wave ring: needs at least 8 k centreline segments."));
     auto curve = [&](const double t) {
       return Eigen::Vector3d(R * std::cos(t), R * std::sin(t), h * std::cos(k * (t - phase)));
     };
@@ -162,8 +168,8 @@ namespace nlmech::dim
   }
 
   ElementShape scale_mail_element(const double R, const double r, const double h, const unsigned int N,
-                                  const double plate_radius, const double plate_thickness, const double plate_height,
-                                  const double density)
+                                  const double plate_radius, const double plate_thickness,
+                                  const double plate_height, const double density)
   {
     AssertThrow(plate_radius > 0 && plate_thickness > 0,
                 dealii::ExcMessage("Scale mail: the plate needs a positive radius and thickness."));
@@ -171,7 +177,7 @@ namespace nlmech::dim
                 dealii::ExcMessage("Scale mail: the plate must clear the base ring (plate height > h + r + "
                                    "thickness / 2)."));
     ElementShape shape = wave_ring(R, r, h, 6, M_PI / 12, N, density);
-    shape.name = "scale mail";
+    shape.name         = "scale mail";
     // Hexagonal plate: a fan of six triangles around its centre, swept by half the thickness.
     const unsigned int centre = shape.points.size();
     shape.points.emplace_back(0, 0, plate_height);
@@ -196,10 +202,11 @@ namespace nlmech::dim
     for (std::size_t i = 0; i < a.size(); ++i)
       for (std::size_t j = 0; j < b.size(); ++j)
         {
-          const Eigen::Vector3d &p1 = a[i], &p2 = a[(i + 1) % a.size()], &p3 = b[j], &p4 = b[(j + 1) % b.size()];
-          const Eigen::Vector3d  r13 = p3 - p1, r14 = p4 - p1, r23 = p3 - p2, r24 = p4 - p2;
-          Eigen::Vector3d        n[4] = {r13.cross(r14), r14.cross(r24), r24.cross(r23), r23.cross(r13)};
-          bool                   degenerate = false;
+          const Eigen::Vector3d &p1 = a[i], &p2 = a[(i + 1) % a.size()], &p3 = b[j],
+                                &p4 = b[(j + 1) % b.size()];
+          const Eigen::Vector3d r13 = p3 - p1, r14 = p4 - p1, r23 = p3 - p2, r24 = p4 - p2;
+          Eigen::Vector3d       n[4]       = {r13.cross(r14), r14.cross(r24), r24.cross(r23), r23.cross(r13)};
+          bool                  degenerate = false;
           for (auto &v : n)
             {
               const double l = v.norm();

@@ -10,7 +10,8 @@ namespace nlmech::dim
 {
   Pattern four_in_one_pattern(const FourInOneDimensions &d, const double density)
   {
-    AssertThrow(d.a > 0 && d.b > 0, dealii::ExcMessage("4-in-1: the column spacing a and row spacing b must be positive."));
+    AssertThrow(d.a > 0 && d.b > 0,
+                dealii::ExcMessage("4-in-1: the column spacing a and row spacing b must be positive."));
     Pattern p;
     p.name = "4-in-1 chainmail";
     p.shapes.push_back(torus_ring(d.R, d.r, d.segments, density));
@@ -65,13 +66,14 @@ namespace nlmech::dim
     return p;
   }
 
-  Pattern ring_chain_pattern(const double R, const double r, const double spacing, const unsigned int segments,
-                             const double row_spacing, const double density)
+  Pattern ring_chain_pattern(const double R, const double r, const double spacing,
+                             const unsigned int segments, const double row_spacing, const double density)
   {
     AssertThrow(R > 2 * r, dealii::ExcMessage("Ring chain: needs R > 2 r for the rings to link."));
     AssertThrow(spacing > R + r && spacing < 2 * (R - r),
                 dealii::ExcMessage("Ring chain: needs R + r < spacing < 2 (R - r)."));
-    AssertThrow(row_spacing > 2 * (R + r), dealii::ExcMessage("Ring chain: the rows must be more than 2 (R + r) apart."));
+    AssertThrow(row_spacing > 2 * (R + r),
+                dealii::ExcMessage("Ring chain: the rows must be more than 2 (R + r) apart."));
     Pattern p;
     p.name = "ring chain";
     p.shapes.push_back(torus_ring(R, r, segments, density));
@@ -98,7 +100,7 @@ namespace nlmech::dim
   PlacedAssembly periodic_cell(const Pattern &pattern, const std::vector<Eigen::Matrix2d> &strain_basis)
   {
     PlacedAssembly placed;
-    auto           assembly = std::make_shared<RigidAssembly>(pattern.shapes, pattern.shape_of, Placement::periodic);
+    auto assembly = std::make_shared<RigidAssembly>(pattern.shapes, pattern.shape_of, Placement::periodic);
     assembly->set_lattice(pattern.t1, pattern.t2, strain_basis);
     placed.q = initial_state(*assembly, pattern.centres, pattern.rotations);
     for (const auto &c : pattern.centres)
@@ -111,7 +113,8 @@ namespace nlmech::dim
                               const Placement placement)
   {
     AssertThrow(n_elements >= 1, dealii::ExcMessage("Patch: needs at least one element."));
-    AssertThrow(placement != Placement::periodic, dealii::ExcMessage("Patch: a finite patch is not periodic."));
+    AssertThrow(placement != Placement::periodic,
+                dealii::ExcMessage("Patch: a finite patch is not periodic."));
     auto norm = [&](const Eigen::Vector2d &x) {
       switch (shape)
         {
@@ -129,8 +132,8 @@ namespace nlmech::dim
     };
     struct Candidate
     {
-      double   key, angle;
-      unsigned element;
+      double          key, angle;
+      unsigned        element;
       Eigen::Vector3d centre;
     };
     std::vector<Candidate> candidates;
@@ -165,30 +168,32 @@ namespace nlmech::dim
     return placed;
   }
 
-  PlacedAssembly linked_ring_pair(const double R, const double r, const unsigned int segments, const double density)
+  PlacedAssembly linked_ring_pair(const double R, const double r, const unsigned int segments,
+                                  const double density)
   {
     AssertThrow(R > 0 && r > 0, dealii::ExcMessage("Ring pair: R and r must be positive."));
-    AssertThrow(R >= 2 * r * (1 - 1e-9),
-                dealii::ExcMessage("Ring pair: R = " + std::to_string(R) + " mm < 2 r = " + std::to_string(2 * r) +
-                                   " mm: a tube of diameter 2 r cannot pass through a hole of diameter 2 (R - r), so "
-                                   "the rings cannot be linked."));
-    AssertThrow(R > 2 * r * (1 + 1e-9),
-                dealii::ExcMessage("Ring pair: R = 2 r: the rings are locked tight. Their only linked state has "
-                                   "the tubes touching at both holes, with no free motion (range of centre distance "
-                                   "2 R - 4 r = 0), which an intersection-free model cannot start from."));
+    AssertThrow(
+        R >= 2 * r * (1 - 1e-9),
+        dealii::ExcMessage("Ring pair: R = " + std::to_string(R) + " mm < 2 r = " + std::to_string(2 * r) +
+                           " mm: a tube of diameter 2 r cannot pass through a hole of diameter 2 (R - r), so "
+                           "the rings cannot be linked."));
+    AssertThrow(
+        R > 2 * r * (1 + 1e-9),
+        dealii::ExcMessage("Ring pair: R = 2 r: the rings are locked tight. Their only linked state has "
+                           "the tubes touching at both holes, with no free motion (range of centre distance "
+                           "2 R - 4 r = 0), which an intersection-free model cannot start from."));
     PlacedAssembly placed;
-    auto           assembly =
-        std::make_shared<RigidAssembly>(std::vector<ElementShape>{torus_ring(R, r, segments, density)},
-                                        std::vector<unsigned>{0, 0});
-    placed.q = initial_state(*assembly, {Eigen::Vector3d::Zero(), Eigen::Vector3d(R, 0, 0)},
-                             {Eigen::Vector3d::Zero(), Eigen::Vector3d(M_PI / 2, 0, 0)});
+    auto           assembly = std::make_shared<RigidAssembly>(
+        std::vector<ElementShape>{torus_ring(R, r, segments, density)}, std::vector<unsigned>{0, 0});
+    placed.q         = initial_state(*assembly, {Eigen::Vector3d::Zero(), Eigen::Vector3d(R, 0, 0)},
+                                     {Eigen::Vector3d::Zero(), Eigen::Vector3d(M_PI / 2, 0, 0)});
     placed.reference = {Eigen::Vector2d::Zero(), Eigen::Vector2d(R, 0)};
     placed.assembly  = assembly;
     return placed;
   }
 
-  std::vector<Eigen::Vector3d> centreline(const RigidAssembly &assembly, const Eigen::VectorXd &q, const unsigned body,
-                                          const std::array<int, 2> image)
+  std::vector<Eigen::Vector3d> centreline(const RigidAssembly &assembly, const Eigen::VectorXd &q,
+                                          const unsigned body, const std::array<int, 2> image)
   {
     std::vector<Eigen::Vector3d> x;
     for (const unsigned i : assembly.shape(body).loop)
@@ -218,8 +223,8 @@ namespace nlmech::dim
     message << "Pattern: elements " << gap.body_a << " and " << gap.body_b;
     if (gap.image[0] != 0 || gap.image[1] != 0)
       message << " (image " << gap.image[0] << ", " << gap.image[1] << ")";
-    message << (gap.gap < 0 ? " overlap" : " are too close") << " in the initial pattern (surface gap " << gap.gap
-            << " mm, the model needs more than " << separation
+    message << (gap.gap < 0 ? " overlap" : " are too close") << " in the initial pattern (surface gap "
+            << gap.gap << " mm, the model needs more than " << separation
             << " mm); increase the spacing or reduce the tube radius.";
     AssertThrow(false, dealii::ExcMessage(message.str()));
   }

@@ -6,9 +6,9 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cmath>
 #include <limits>
 #include <set>
 
@@ -19,11 +19,15 @@ namespace nlmech::dim
     using Gradient = Sacado::Fad::SFad<double, 15>;
     using Hessian  = Sacado::Fad::SFad<Gradient, 15>;
 
-    Eigen::Vector3d to_eigen(const Point<double> &p) { return {p[0], p[1], p[2]}; }
+    Eigen::Vector3d to_eigen(const Point<double> &p)
+    {
+      return {p[0], p[1], p[2]};
+    }
 
     /// Bounding sphere of a primitive's points in the world (centre, radius without the sweep).
     template <std::size_t N>
-    std::pair<Eigen::Vector3d, double> sphere(const std::vector<Eigen::Vector3d> &x, const std::array<unsigned, N> &ids)
+    std::pair<Eigen::Vector3d, double> sphere(const std::vector<Eigen::Vector3d> &x,
+                                              const std::array<unsigned, N>      &ids)
     {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (const unsigned i : ids)
@@ -44,10 +48,11 @@ namespace nlmech::dim
   {
     AssertThrow(!shape_of.empty(), dealii::ExcMessage("Rigid assembly: there are no elements."));
     for (const unsigned s : shape_of)
-      AssertThrow(s < shapes.size(), dealii::ExcMessage("Rigid assembly: an element refers to an unknown shape."));
+      AssertThrow(s < shapes.size(),
+                  dealii::ExcMessage("Rigid assembly: an element refers to an unknown shape."));
     for (const auto &shape : shapes)
       {
-        Primitives p;
+        Primitives                              p;
         std::set<std::pair<unsigned, unsigned>> edges;
         std::set<std::pair<unsigned, double>>   vertices;
         for (std::size_t s = 0; s < shape.segments.size(); ++s)
@@ -81,23 +86,28 @@ namespace nlmech::dim
   void RigidAssembly::set_lattice(const Eigen::Vector2d &t1, const Eigen::Vector2d &t2,
                                   const std::vector<Eigen::Matrix2d> &strain_basis)
   {
-    AssertThrow(place == Placement::periodic, dealii::ExcMessage("Rigid assembly: a lattice needs periodic placement."));
+    AssertThrow(place == Placement::periodic,
+                dealii::ExcMessage("Rigid assembly: a lattice needs periodic placement."));
     AssertThrow(std::abs(t1[0] * t2[1] - t1[1] * t2[0]) > 1e-12 * t1.squaredNorm(),
                 dealii::ExcMessage("Periodic cell: the two lattice vectors are parallel."));
-    AssertThrow(strain_basis.size() <= 3, dealii::ExcMessage("Periodic cell: at most three strain parameters."));
+    AssertThrow(strain_basis.size() <= 3,
+                dealii::ExcMessage("Periodic cell: at most three strain parameters."));
     tbar1 = t1, tbar2 = t2, basis = strain_basis;
   }
 
   std::size_t RigidAssembly::n_parameters() const
   {
-    return place == Placement::periodic ? basis.size() : place == Placement::paraboloid ? curvature.size() : 0;
+    return place == Placement::periodic     ? basis.size()
+           : place == Placement::paraboloid ? curvature.size()
+                                            : 0;
   }
 
   void RigidAssembly::set_curvature_basis(const std::vector<Eigen::Vector3d> &b)
   {
     AssertThrow(place == Placement::paraboloid,
                 dealii::ExcMessage("Rigid assembly: a curvature basis needs paraboloid placement."));
-    AssertThrow(!b.empty() && b.size() <= 3, dealii::ExcMessage("Paraboloid: one to three curvature parameters."));
+    AssertThrow(!b.empty() && b.size() <= 3,
+                dealii::ExcMessage("Paraboloid: one to three curvature parameters."));
     curvature = b;
   }
 
@@ -184,8 +194,8 @@ namespace nlmech::dim
               if (a == b && (i < 0 || (i == 0 && j <= 0)))
                 continue; // a body against itself only through a positive image
               const std::array<int, 2> image{i, j};
-              const double             gap = (centre(q, a) - centre(q, b, image)).norm() -
-                                 shape(a).bounding_radius() - shape(b).bounding_radius();
+              const double gap = (centre(q, a) - centre(q, b, image)).norm() - shape(a).bounding_radius() -
+                                 shape(b).bounding_radius();
               if (gap < reach)
                 pairs.emplace_back(a, b, image);
             }
@@ -197,8 +207,8 @@ namespace nlmech::dim
     std::vector<ContactPair> result;
     for (const auto &[a, b, image] : body_pairs(q, reach))
       {
-        const auto            &sa = shape(a), &sb = shape(b);
-        const auto            &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
+        const auto                        &sa = shape(a), &sb = shape(b);
+        const auto                        &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
         const std::vector<Eigen::Vector3d> xa = world_points(q, a), xb = world_points(q, b, image);
         auto add = [&](const ClosestType &c, const std::array<Eigen::Vector3d, 4> &points,
                        const std::array<unsigned char, 4> &owner, const double radius_sum) {
@@ -232,13 +242,13 @@ namespace nlmech::dim
         // Points of one element against the faces of the other (both ways).
         for (int side = 0; side < 2; ++side)
           {
-            const auto &pv = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
-            const auto &xv = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
-            const auto &sv = side == 0 ? sa : sb, &sf = side == 0 ? sb : sa;
+            const auto         &pv = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
+            const auto         &xv = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
+            const auto         &sv = side == 0 ? sa : sb, &sf = side == 0 ? sb : sa;
             const unsigned char ov = side == 0 ? 0 : 1, of = side == 0 ? 1 : 0;
             for (std::size_t f = 0; f < pf.faces.size(); ++f)
               {
-                const auto [cf, rf] = sphere(xf, pf.faces[f]);
+                const auto [cf, rf]      = sphere(xf, pf.faces[f]);
                 const auto &[t0, t1, t2] = pf.faces[f];
                 for (const auto &[v, rv] : pv.vertices)
                   {
@@ -255,7 +265,7 @@ namespace nlmech::dim
   }
 
   std::vector<Eigen::Vector3d> RigidAssembly::world_points(const Eigen::VectorXd &q, const unsigned body,
-                                                         const std::array<int, 2> image) const
+                                                           const std::array<int, 2> image) const
   {
     const Eigen::Matrix3d        R = rotation(q.segment<3>(6 * body + 3));
     const Eigen::Vector3d        c = centre(q, body, image);
@@ -306,7 +316,7 @@ namespace nlmech::dim
       int      kind; // 0: edge-edge, 1: edge of a - face of b, 2: edge of b - face of a
       unsigned i, j;
     };
-    constexpr unsigned chunk = 8;
+    constexpr unsigned chunk       = 8;
     auto               chunk_balls = [](const std::vector<Ball> &balls) {
       std::vector<Ball> chunks;
       for (unsigned first = 0; first < balls.size(); first += chunk)
@@ -340,7 +350,7 @@ namespace nlmech::dim
     };
     double gap = std::numeric_limits<double>::infinity();
     // Chunk pairs of all three kinds, nearest bound first.
-    std::vector<Candidate> chunk_pairs;
+    std::vector<Candidate>                                                               chunk_pairs;
     const std::array<std::pair<const std::vector<Ball> *, const std::vector<Ball> *>, 3> kinds{
         {{&ea_balls, &eb_balls}, {&ea_balls, &fb_balls}, {&eb_balls, &fa_balls}}};
     std::array<std::pair<std::vector<Ball>, std::vector<Ball>>, 3> chunks;
@@ -350,9 +360,8 @@ namespace nlmech::dim
         for (unsigned i = 0; i < chunks[kind].first.size(); ++i)
           for (unsigned j = 0; j < chunks[kind].second.size(); ++j)
             {
-              const double bound =
-                  (chunks[kind].first[i].c - chunks[kind].second[j].c).norm() - chunks[kind].first[i].r -
-                  chunks[kind].second[j].r;
+              const double bound = (chunks[kind].first[i].c - chunks[kind].second[j].c).norm() -
+                                   chunks[kind].first[i].r - chunks[kind].second[j].r;
               if (bound < cutoff)
                 chunk_pairs.push_back({bound, kind, i, j});
             }
@@ -389,8 +398,8 @@ namespace nlmech::dim
     return best;
   }
 
-  double RigidAssembly::max_safe_step(const Eigen::VectorXd &q, const Eigen::VectorXd &dq, const double separation,
-                                      const double keep) const
+  double RigidAssembly::max_safe_step(const Eigen::VectorXd &q, const Eigen::VectorXd &dq,
+                                      const double separation, const double keep) const
   {
     // Bound on the speed (per unit step) of every point of body b's image: centre, rotation about it
     // (|d/dt R(omega + t domega) p| <= |domega| |p|, the exponential map's Jacobian has norm <= 1),
@@ -407,7 +416,7 @@ namespace nlmech::dim
             const double x = std::abs(q[6 * b]) + std::abs(dq[6 * b]);
             const double y = std::abs(q[6 * b + 1]) + std::abs(dq[6 * b + 1]);
             const double A = std::abs(k0[0]) + std::abs(dk[0]), B = std::abs(k0[1]) + std::abs(dk[1]),
-                         C = std::abs(k0[2]) + std::abs(dk[2]);
+                         C  = std::abs(k0[2]) + std::abs(dk[2]);
             const double dx = std::abs(dq[6 * b]), dy = std::abs(dq[6 * b + 1]);
             v += std::abs(dk[0]) * x * x + 2 * A * x * dx + std::abs(dk[1]) * y * y + 2 * B * y * dy +
                  std::abs(dk[2]) * x * y + C * (dx * y + x * dy);
@@ -493,13 +502,13 @@ namespace nlmech::dim
           }
         if (next >= 1 || limiting == reachable.size())
           return 1.0;
-        alpha = std::max(alpha, next); // ties (symmetric pairs) are recomputed without advancing
+        alpha              = std::max(alpha, next); // ties (symmetric pairs) are recomputed without advancing
         const Candidate &c = reachable[limiting];
         const double     floor = keep * c.start_gap;
         const double     g     = pair_gap(q + alpha * dq, c, floor + c.speed * (1 - alpha));
         if (std::getenv("NLMECH_CCD_DEBUG"))
-          std::fprintf(stderr, "ccd it %u alpha %.3e pair %zu/%zu g %.3e floor %.3e speed %.3e start %.3e\n", iteration,
-                       alpha, limiting, reachable.size(), g, floor, c.speed, c.start_gap);
+          std::fprintf(stderr, "ccd it %u alpha %.3e pair %zu/%zu g %.3e floor %.3e speed %.3e start %.3e\n",
+                       iteration, alpha, limiting, reachable.size(), g, floor, c.speed, c.start_gap);
         if (g <= floor)
           return alpha;
         known_at[limiting] = alpha, known_gap[limiting] = g;
@@ -509,13 +518,15 @@ namespace nlmech::dim
 
   // ---------------------------------------------------------------------------------------------
 
-  ContactBarrier::ContactBarrier(std::shared_ptr<const RigidAssembly> assembly_in, const ContactSettings settings)
+  ContactBarrier::ContactBarrier(std::shared_ptr<const RigidAssembly> assembly_in,
+                                 const ContactSettings                settings)
       : assembly(std::move(assembly_in))
       , contact(settings)
   {
     AssertThrow(contact.dhat > 0 && contact.kappa > 0,
                 dealii::ExcMessage("Contact: the barrier gap dhat and stiffness kappa must be positive."));
-    AssertThrow(contact.separation >= 0, dealii::ExcMessage("Contact: the minimum separation must not be negative."));
+    AssertThrow(contact.separation >= 0,
+                dealii::ExcMessage("Contact: the minimum separation must not be negative."));
   }
 
   std::array<long, 15> ContactBarrier::pair_dofs(const ContactPair &pair) const
@@ -536,7 +547,8 @@ namespace nlmech::dim
     std::array<Point<S>, 4> x;
     for (unsigned k = 0; k < 4; ++k)
       x[k] = assembly->world_point(pair.owner[k] == 0 ? &v[0] : &v[6], &v[12],
-                                   pair.owner[k] == 0 ? std::array<int, 2>{0, 0} : pair.image, pair.body_points[k]);
+                                   pair.owner[k] == 0 ? std::array<int, 2>{0, 0} : pair.image,
+                                   pair.body_points[k]);
     const S d = sqrt(squared_distance(pair.type, x)) - pair.radius_sum;
     return barrier(d, contact.dhat, contact.kappa);
   }
@@ -548,7 +560,7 @@ namespace nlmech::dim
       {
         ContactPair p = pair;
         p.radius_sum += contact.separation;
-        const auto              dofs = pair_dofs(p);
+        const auto             dofs = pair_dofs(p);
         std::array<double, 15> v{};
         for (unsigned k = 0; k < 15; ++k)
           v[k] = dofs[k] >= 0 ? q[dofs[k]] : 0.0;
@@ -584,7 +596,7 @@ namespace nlmech::dim
         std::array<Hessian, 15> v;
         for (unsigned k = 0; k < 15; ++k)
           v[k] = Hessian(15, k, Gradient(15, k, dofs[k] >= 0 ? q[dofs[k]] : 0.0));
-        const Hessian   e = pair_energy(p, v);
+        const Hessian                 e = pair_energy(p, v);
         Eigen::Matrix<double, 15, 15> H;
         for (unsigned i = 0; i < 15; ++i)
           for (unsigned j = 0; j < 15; ++j)
@@ -655,7 +667,10 @@ namespace nlmech::dim
           continue;
         std::array<CentreGradient, 9> v;
         for (unsigned k = 0; k < 9; ++k)
-          v[k] = CentreGradient(9, k, k < 6 ? q[6 * b + k] : k - 6 < np ? q[assembly->parameter_index(k - 6)] : 0.0);
+          v[k] = CentreGradient(9, k,
+                                k < 6        ? q[6 * b + k]
+                                : k - 6 < np ? q[assembly->parameter_index(k - 6)]
+                                             : 0.0);
         const CentreGradient e = centre_work(*assembly, v, forces[b]);
         for (unsigned k = 0; k < 6; ++k)
           g[6 * b + k] += e.dx(k);
@@ -690,7 +705,8 @@ namespace nlmech::dim
 
   // ---------------------------------------------------------------------------------------------
 
-  ParameterTarget::ParameterTarget(const std::size_t first_index, std::vector<double> t, std::vector<double> w)
+  ParameterTarget::ParameterTarget(const std::size_t first_index, std::vector<double> t,
+                                   std::vector<double> w)
       : first(first_index)
       , targets(std::move(t))
       , weights(std::move(w))

@@ -31,7 +31,7 @@ namespace nlmech::dim
 
     Mesh to_mesh(const StrainSpaceBoundary &b)
     {
-      Mesh                          mesh;
+      Mesh                            mesh;
       std::vector<Mesh::Vertex_index> v;
       for (const auto &x : b.vertices)
         v.push_back(mesh.add_vertex(Point(x[0], x[1], x[2])));
@@ -39,17 +39,19 @@ namespace nlmech::dim
         {
           AssertThrow(t[0] < v.size() && t[1] < v.size() && t[2] < v.size(),
                       dealii::ExcMessage("Strain-space boundary: a triangle refers to a missing vertex."));
-          AssertThrow(mesh.add_face(v[t[0]], v[t[1]], v[t[2]]) != Mesh::null_face(),
-                      dealii::ExcMessage("Strain-space boundary: the triangles do not form a manifold surface."));
+          AssertThrow(
+              mesh.add_face(v[t[0]], v[t[1]], v[t[2]]) != Mesh::null_face(),
+              dealii::ExcMessage("Strain-space boundary: the triangles do not form a manifold surface."));
         }
       return mesh;
     }
   } // namespace
 
-  StrainSpaceBoundary star_shaped_boundary(const std::vector<Eigen::Vector3d> &samples, const Eigen::Vector3d &rest,
-                                           const Eigen::Vector3d &scale)
+  StrainSpaceBoundary star_shaped_boundary(const std::vector<Eigen::Vector3d> &samples,
+                                           const Eigen::Vector3d &rest, const Eigen::Vector3d &scale)
   {
-    AssertThrow((scale.array() > 0).all(), dealii::ExcMessage("Strain-space boundary: the axis scales must be positive."));
+    AssertThrow((scale.array() > 0).all(),
+                dealii::ExcMessage("Strain-space boundary: the axis scales must be positive."));
     // Directions of the samples about the rest state, in scaled coordinates, without duplicates.
     std::vector<Point>           directions;
     std::vector<Eigen::Vector3d> kept;
@@ -60,7 +62,7 @@ namespace nlmech::dim
         const Eigen::Vector3d u = (s - rest).cwiseQuotient(scale);
         if (u.norm() < 1e-9)
           continue;
-        const Eigen::Vector3d d = u.normalized();
+        const Eigen::Vector3d d         = u.normalized();
         bool                  duplicate = false;
         for (const auto &p : directions)
           if ((Eigen::Vector3d(p.x(), p.y(), p.z()) - d).norm() < 1e-6)
@@ -74,21 +76,24 @@ namespace nlmech::dim
         directions.emplace_back(d[0], d[1], d[2]);
         kept.push_back(s);
       }
-    AssertThrow(directions.size() >= 4,
-                dealii::ExcMessage("Strain-space boundary: fewer than four distinct sample directions about the rest "
-                                   "state; there is no closed surface to build."));
+    AssertThrow(
+        directions.size() >= 4,
+        dealii::ExcMessage("Strain-space boundary: fewer than four distinct sample directions about the rest "
+                           "state; there is no closed surface to build."));
     Mesh hull;
     CGAL::convex_hull_3(directions.begin(), directions.end(), hull);
     if (!CGAL::is_triangle_mesh(hull))
       CGAL::Polygon_mesh_processing::triangulate_faces(hull);
     AssertThrow(CGAL::is_closed(hull) && hull.number_of_faces() >= 4,
-                dealii::ExcMessage("Strain-space boundary: the sample directions all lie in one plane through the rest "
-                                   "state; sample more directions."));
+                dealii::ExcMessage(
+                    "Strain-space boundary: the sample directions all lie in one plane through the rest "
+                    "state; sample more directions."));
 
     // A hull of directions that spans no volume: the samples lie in a plane through the rest state.
-    AssertThrow(CGAL::Polygon_mesh_processing::volume(hull) > 1e-6,
-                dealii::ExcMessage("Strain-space boundary: the samples span no volume about the rest state (they lie "
-                                   "in one plane through it); sample at least three directions."));
+    AssertThrow(
+        CGAL::Polygon_mesh_processing::volume(hull) > 1e-6,
+        dealii::ExcMessage("Strain-space boundary: the samples span no volume about the rest state (they lie "
+                           "in one plane through it); sample at least three directions."));
     StrainSpaceBoundary boundary;
     boundary.rest = rest;
     std::map<Mesh::Vertex_index, unsigned> vertex_number;
@@ -119,7 +124,8 @@ namespace nlmech::dim
     result.closed    = CGAL::is_closed(mesh) && mesh.number_of_faces() > 0;
     for (const auto &t : boundary.triangles)
       {
-        const Eigen::Vector3d a = boundary.vertices[t[0]] - boundary.rest, b = boundary.vertices[t[1]] - boundary.rest,
+        const Eigen::Vector3d a = boundary.vertices[t[0]] - boundary.rest,
+                              b = boundary.vertices[t[1]] - boundary.rest,
                               c = boundary.vertices[t[2]] - boundary.rest;
         if (a.dot(b.cross(c)) <= 0)
           ++result.flipped;
@@ -136,12 +142,12 @@ namespace nlmech::dim
 
   double signed_distance(const StrainSpaceBoundary &boundary, const Eigen::Vector3d &x)
   {
-    using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
-    using Tree      = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-    const Mesh mesh = to_mesh(boundary);
-    Tree       tree(faces(mesh).first, faces(mesh).second, mesh);
-    const Point p(x[0], x[1], x[2]);
-    const double d = std::sqrt(tree.squared_distance(p));
+    using Primitive                                = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+    using Tree                                     = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+    const Mesh                                mesh = to_mesh(boundary);
+    Tree                                      tree(faces(mesh).first, faces(mesh).second, mesh);
+    const Point                               p(x[0], x[1], x[2]);
+    const double                              d = std::sqrt(tree.squared_distance(p));
     CGAL::Side_of_triangle_mesh<Mesh, Kernel> inside(mesh);
     return inside(p) == CGAL::ON_BOUNDED_SIDE ? -d : d;
   }

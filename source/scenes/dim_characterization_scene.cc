@@ -40,11 +40,13 @@ namespace nlmech
                           Patterns::Selection("4-in-1|threefold|torus knot|scale mail|ring chain"),
                           "The interlocking pattern (ring chain: the validation material with a closed-form "
                           "stretch limit).");
-        prm.declare_entry("Density", "1.24e-6", Patterns::Double(0), "Element material density [kg/mm^3] (PLA).");
+        prm.declare_entry("Density", "1.24e-6", Patterns::Double(0),
+                          "Element material density [kg/mm^3] (PLA).");
         prm.enter_subsection("4-in-1");
         prm.declare_entry("Ring radius", "3", Patterns::Double(0), "R, centreline radius [mm].");
         prm.declare_entry("Tube radius", "0.5", Patterns::Double(0), "r [mm].");
-        prm.declare_entry("Tilt", "30", Patterns::Double(0, 80), "Tilt of the rings about the column axis [deg].");
+        prm.declare_entry("Tilt", "30", Patterns::Double(0, 80),
+                          "Tilt of the rings about the column axis [deg].");
         prm.declare_entry("Column spacing", "2", Patterns::Double(0), "a [mm].");
         prm.declare_entry("Row spacing", "7.5", Patterns::Double(0), "b [mm].");
         prm.declare_entry("Segments", "64", Patterns::Integer(8), "Centreline segments per ring.");
@@ -60,7 +62,8 @@ namespace nlmech
         prm.declare_entry("p", "1", Patterns::Integer(1), "Turns around the symmetry axis.");
         prm.declare_entry("q", "4", Patterns::Integer(1), "Turns around the tube (q-fold symmetry).");
         prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R [mm].");
-        prm.declare_entry("Knot offset", "1", Patterns::Double(0), "a, radius of the winding about the core [mm].");
+        prm.declare_entry("Knot offset", "1", Patterns::Double(0),
+                          "a, radius of the winding about the core [mm].");
         prm.declare_entry("Tube radius", "0.4", Patterns::Double(0), "r [mm].");
         prm.declare_entry("Spacing", "7", Patterns::Double(0), "D, square lattice spacing [mm].");
         prm.declare_entry("Phase", "0", Patterns::Double(), "Rotation of every element about z [deg].");
@@ -73,7 +76,8 @@ namespace nlmech
         prm.declare_entry("Spacing", "5.657", Patterns::Double(0), "D [mm].");
         prm.declare_entry("Plate radius", "2.45", Patterns::Double(0), "Hexagon circumradius [mm].");
         prm.declare_entry("Plate thickness", "0.8", Patterns::Double(0), "[mm].");
-        prm.declare_entry("Plate height", "2.3", Patterns::Double(0), "Plate mid-plane above the ring plane [mm].");
+        prm.declare_entry("Plate height", "2.3", Patterns::Double(0),
+                          "Plate mid-plane above the ring plane [mm].");
         prm.declare_entry("Segments", "96", Patterns::Integer(48), "Centreline segments per ring.");
         prm.leave_subsection();
         prm.enter_subsection("Ring chain");
@@ -96,22 +100,27 @@ namespace nlmech
         prm.enter_subsection("Sampling");
         prm.declare_entry("Tests", "in-plane, bending", Patterns::MultipleSelection("in-plane|bending"),
                           "Which strain spaces to sample.");
-        prm.declare_entry("Directions", "12", Patterns::Integer(1),
-                          "theta_i = i 180 / n deg, i < n (at least 3 for a boundary, so that the samples span "
-                          "the strain space).");
+        prm.declare_entry(
+            "Directions", "12", Patterns::Integer(1),
+            "theta_i = i 180 / n deg, i < n (at least 3 for a boundary, so that the samples span "
+            "the strain space).");
         prm.declare_entry("Levels", "2", Patterns::Integer(0),
                           "Principal values per direction at which the orthogonal limits are sought.");
         prm.declare_entry("Far strain", "0.9", Patterns::Double(0, 0.99),
                           "|target| of a driven strain: far outside the feasible set [-].");
-        prm.declare_entry("Far curvature", "0.5", Patterns::Double(0), "|target| of a driven curvature [1/mm].");
+        prm.declare_entry("Far curvature", "0.5", Patterns::Double(0),
+                          "|target| of a driven curvature [1/mm].");
         prm.declare_entry("Target weight", "0.01", Patterns::Double(0), "w of the driven component [N mm].");
-        prm.declare_entry("Hold weight", "1", Patterns::Double(0), "w of a component held at a level [N mm].");
-        prm.declare_entry("Patch elements", "19", Patterns::Integer(2), "Elements of the bending disk patch.");
+        prm.declare_entry("Hold weight", "1", Patterns::Double(0),
+                          "w of a component held at a level [N mm].");
+        prm.declare_entry("Patch elements", "19", Patterns::Integer(2),
+                          "Elements of the bending disk patch.");
         prm.declare_entry("Checkpoint directory", "", Patterns::Anything(),
                           "Finished samples are kept here and skipped when the run is repeated (empty: "
                           "'<output directory>.checkpoint').");
-        prm.declare_entry("Positive only", "false", Patterns::Bool(),
-                          "Only the uniaxial stretch (and positive bending) limits, no boundary: validation runs.");
+        prm.declare_entry(
+            "Positive only", "false", Patterns::Bool(),
+            "Only the uniaxial stretch (and positive bending) limits, no boundary: validation runs.");
         prm.declare_entry("Stop after", "0", Patterns::Integer(0),
                           "Stop (with an error) after this many new samples, as if killed: 0 never.");
         prm.leave_subsection();
@@ -160,9 +169,10 @@ namespace nlmech
             ScaleMailDimensions d;
             d.R = prm.get_double("Ring radius"), d.r = prm.get_double("Tube radius");
             d.h = prm.get_double("Wave height"), d.D = prm.get_double("Spacing");
-            d.plate_radius = prm.get_double("Plate radius"), d.plate_thickness = prm.get_double("Plate thickness");
+            d.plate_radius    = prm.get_double("Plate radius"),
+            d.plate_thickness = prm.get_double("Plate thickness");
             d.plate_height = prm.get_double("Plate height"), d.segments = prm.get_integer("Segments");
-            pattern        = scale_mail_pattern(d, density);
+            pattern = scale_mail_pattern(d, density);
             prm.leave_subsection();
           }
         else
@@ -188,16 +198,16 @@ namespace nlmech
         for (const auto &t : Utilities::split_string_list(prm.get("Tests"), ','))
           tests.push_back(t);
         AssertThrow(!tests.empty(), ExcMessage("Sampling: name at least one test (in-plane, bending)."));
-        plan.directions         = prm.get_integer("Directions");
-        plan.levels             = prm.get_integer("Levels");
-        plan.far_strain         = prm.get_double("Far strain");
-        plan.far_curvature      = prm.get_double("Far curvature");
-        settings.target_weight  = prm.get_double("Target weight");
-        settings.hold_weight    = prm.get_double("Hold weight");
-        plan.patch_elements     = prm.get_integer("Patch elements");
-        checkpoint_directory    = prm.get("Checkpoint directory");
-        plan.stop_after         = prm.get_integer("Stop after");
-        plan.positive_only      = prm.get_bool("Positive only");
+        plan.directions        = prm.get_integer("Directions");
+        plan.levels            = prm.get_integer("Levels");
+        plan.far_strain        = prm.get_double("Far strain");
+        plan.far_curvature     = prm.get_double("Far curvature");
+        settings.target_weight = prm.get_double("Target weight");
+        settings.hold_weight   = prm.get_double("Hold weight");
+        plan.patch_elements    = prm.get_integer("Patch elements");
+        checkpoint_directory   = prm.get("Checkpoint directory");
+        plan.stop_after        = prm.get_integer("Stop after");
+        plan.positive_only     = prm.get_bool("Positive only");
         AssertThrow(plan.positive_only || plan.directions >= 3,
                     ExcMessage("Sampling: a boundary needs at least 3 directions (or set Positive only)."));
         prm.leave_subsection();
@@ -206,7 +216,8 @@ namespace nlmech
         prm.print_parameters(all, ParameterHandler::ShortPRM);
         std::istringstream lines(all.str());
         for (std::string line; std::getline(lines, line);)
-          if (line.find("Output directory") == std::string::npos && line.find("Stop after") == std::string::npos &&
+          if (line.find("Output directory") == std::string::npos &&
+              line.find("Stop after") == std::string::npos &&
               line.find("Checkpoint directory") == std::string::npos)
             plan.fingerprint += line + "\n";
         prm.enter_subsection("Sampling");
@@ -243,16 +254,18 @@ namespace nlmech
         for (const auto &test : tests)
           {
             ProgressReporter progress(test + " samples", 1.0, context.comm, std::cout);
-            const auto       start   = std::chrono::steady_clock::now();
-            const auto       samples = sample_strain_space(
-                pattern, test, plan, settings, checkpoint, context.comm,
-                [&](const unsigned done, const unsigned mine, const Sample &s) {
-                  std::ostringstream label;
-                  label << s.key() << ": " << s.outcome.principal << ", " << s.outcome.orthogonal << " ("
-                        << s.outcome.iterations << " its, " << s.outcome.seconds << " s)";
-                  progress.report(double(done) / std::max(1u, mine), label.str());
-                });
-            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const auto       start = std::chrono::steady_clock::now();
+            const auto       samples =
+                sample_strain_space(pattern, test, plan, settings, checkpoint, context.comm,
+                                    [&](const unsigned done, const unsigned mine, const Sample &s) {
+                                      std::ostringstream label;
+                                      label << s.key() << ": " << s.outcome.principal << ", "
+                                            << s.outcome.orthogonal << " (" << s.outcome.iterations
+                                            << " its, " << s.outcome.seconds << " s)";
+                                      progress.report(double(done) / std::max(1u, mine), label.str());
+                                    });
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             write_samples(context, test, samples);
             (test == "in-plane" ? stretch : bend) = directional_limits(samples, plan.directions);
             if (plan.positive_only)
@@ -272,22 +285,25 @@ namespace nlmech
                 lo = lo.cwiseMin(s.point), hi = hi.cwiseMax(s.point);
                 times.push_back(s.outcome.seconds);
               }
-            const Eigen::Vector3d scale = (hi - lo).cwiseMax(1e-9);
+            const Eigen::Vector3d scale    = (hi - lo).cwiseMax(1e-9);
             StrainSpaceBoundary   boundary = star_shaped_boundary(points, Eigen::Vector3d::Zero(), scale);
             boundary.kind                  = test == "in-plane" ? "stretch" : "bending";
             if (test == "bending")
               boundary.axes = {{"kappa_xx", "kappa_yy", "kappa_xy"}};
             const BoundaryCheck checked = check(boundary);
             AssertThrow(checked.closed && checked.contains_rest,
-                        ExcMessage("The " + boundary.kind + " boundary is not a closed surface around the rest state "
-                                   "(closed: " + std::to_string(checked.closed) + ", contains rest: " +
-                                   std::to_string(checked.contains_rest) + ")."));
+                        ExcMessage("The " + boundary.kind +
+                                   " boundary is not a closed surface around the rest state "
+                                   "(closed: " +
+                                   std::to_string(checked.closed) +
+                                   ", contains rest: " + std::to_string(checked.contains_rest) + ")."));
             std::sort(times.begin(), times.end());
             const std::string prefix = test == "in-plane" ? "stretch" : "bending";
             context.summary.add_number(prefix + "_samples", samples.size());
             context.summary.add_number(prefix + "_samples_at_far_target", at_target);
             context.summary.add_figure(prefix + "_median_seconds_per_sample", times[times.size() / 2], "s");
-            context.summary.add_figure(prefix + "_samples_per_minute", 60.0 * samples.size() / seconds, "1/min");
+            context.summary.add_figure(prefix + "_samples_per_minute", 60.0 * samples.size() / seconds,
+                                       "1/min");
             context.summary.add_number(prefix + "_boundary_vertices", checked.vertices);
             context.summary.add_number(prefix + "_boundary_triangles", checked.triangles);
             context.summary.add_number(prefix + "_boundary_closed", checked.closed ? 1 : 0);
@@ -299,8 +315,9 @@ namespace nlmech
                 std::ostringstream comment;
                 comment << boundary.kind << " boundary of " << pattern.name << " from " << samples.size()
                         << " native-scale samples (nlmech dim-characterization)\n"
-                        << (test == "in-plane" ? "Green strain components, tensor E_xy" :
-                                                 "curvature tensor components [1/mm], z = 1/2 kappa_ij x_i x_j");
+                        << (test == "in-plane"
+                                ? "Green strain components, tensor E_xy"
+                                : "curvature tensor components [1/mm], z = 1/2 kappa_ij x_i x_j");
                 write_boundary(context.output.file("boundary-" + prefix + ".ssb"), boundary, comment.str());
                 write_boundary_vtu(boundary, context.output.file("boundary-" + prefix + ".vtu"));
               }
@@ -318,9 +335,9 @@ namespace nlmech
             if (std::count(tests.begin(), tests.end(), "in-plane"))
               c_min = std::min(c_min, c), c_max = std::max(c_max, c);
             char line[512];
-            std::snprintf(line, sizeof line, "%.6g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", theta, s.positive_p,
-                          s.positive_o, s.negative_p, s.negative_o, c, b.positive_p, b.positive_o, b.negative_p,
-                          b.negative_o);
+            std::snprintf(line, sizeof line, "%.6g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", theta,
+                          s.positive_p, s.positive_o, s.negative_p, s.negative_o, c, b.positive_p,
+                          b.positive_o, b.negative_p, b.negative_o);
             limits_csv << line;
           }
         if (std::count(tests.begin(), tests.end(), "in-plane"))
@@ -335,10 +352,11 @@ namespace nlmech
             context.summary.add_figure("kappa_positive_0deg", bend[0].positive_p, "1/mm");
             context.summary.add_figure("kappa_negative_0deg", bend[0].negative_p, "1/mm");
             // |kappa+ + kappa-| relative: 0 for elements symmetric through the thickness.
-            context.summary.add_figure("bending_asymmetry_0deg",
-                                       std::abs(bend[0].positive_p + bend[0].negative_p) /
-                                           std::max({std::abs(bend[0].positive_p), std::abs(bend[0].negative_p), 1e-300}),
-                                       "");
+            context.summary.add_figure(
+                "bending_asymmetry_0deg",
+                std::abs(bend[0].positive_p + bend[0].negative_p) /
+                    std::max({std::abs(bend[0].positive_p), std::abs(bend[0].negative_p), 1e-300}),
+                "");
           }
         context.summary.add_number("mpi_ranks", n_ranks);
         context.summary.add_number("elements_per_cell", pattern.centres.size());
@@ -346,10 +364,10 @@ namespace nlmech
           {
             write_file_atomically(context.output.file("limits.csv"), limits_csv.str());
             write_states(context);
-            const std::string command = std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR +
-                                        "/contrib/plot/dim_limits.py' '" + context.output.file("limits.csv") +
-                                        "' '" + context.output.file("limits-stretch.png") + "' '" +
-                                        context.output.file("limits-bending.png") + "' '" + pattern.name + "'";
+            const std::string command =
+                std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR + "/contrib/plot/dim_limits.py' '" +
+                context.output.file("limits.csv") + "' '" + context.output.file("limits-stretch.png") +
+                "' '" + context.output.file("limits-bending.png") + "' '" + pattern.name + "'";
             if (std::system(command.c_str()) != 0)
               std::cerr << "nlmech: warning: the polar limit plots could not be drawn (python3/matplotlib)."
                         << std::endl;
@@ -357,7 +375,8 @@ namespace nlmech
       }
 
     private:
-      void write_samples(RunContext &context, const std::string &test, const std::vector<Sample> &samples) const
+      void write_samples(RunContext &context, const std::string &test,
+                         const std::vector<Sample> &samples) const
       {
         if (!context.is_root())
           return;
@@ -368,9 +387,10 @@ namespace nlmech
         for (const auto &s : samples)
           {
             char line[512];
-            std::snprintf(line, sizeof line, "%s,%.6g,%s,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%.4g,%.4g\n",
-                          s.key().c_str(), s.theta / degree, to_string(s.kind).c_str(), s.level, s.target_p,
-                          s.target_o, s.outcome.principal, s.outcome.orthogonal, s.point[0], s.point[1], s.point[2],
+            std::snprintf(line, sizeof line,
+                          "%s,%.6g,%s,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%.4g,%.4g\n", s.key().c_str(),
+                          s.theta / degree, to_string(s.kind).c_str(), s.level, s.target_p, s.target_o,
+                          s.outcome.principal, s.outcome.orthogonal, s.point[0], s.point[1], s.point[2],
                           s.outcome.iterations, s.outcome.seconds, s.outcome.smallest_gap);
             out << line;
           }
@@ -387,7 +407,8 @@ namespace nlmech
         InPlaneTest test(pattern, 0.0, settings);
         write_elements_vtu(test.assembly(), test.state(), block, context.output.file("cell-rest.vtu"));
         test.solve(plan.far_strain, settings.target_weight, 0, 0);
-        write_elements_vtu(test.assembly(), test.state(), block, context.output.file("cell-stretch-limit.vtu"));
+        write_elements_vtu(test.assembly(), test.state(), block,
+                           context.output.file("cell-stretch-limit.vtu"));
       }
 
       std::string              material_name;
@@ -401,13 +422,14 @@ namespace nlmech
   } // namespace
 
   NLMECH_REGISTER_SCENE(dim_characterization,
-                        (SceneInfo{"dim-characterization",
-                                   "Discrete interlocking materials at native scale: rigid elements with "
-                                   "intersection-free barrier contact, periodic in-plane and paraboloid bending "
-                                   "tests sampled over directions (MPI, checkpointed), strain-space boundaries "
-                                   "(CGAL) and polar limit plots.",
-                                   &DimCharacterizationScene::declare_parameters,
-                                   [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
-                                     return std::make_unique<DimCharacterizationScene>(prm);
-                                   }}))
+                        (SceneInfo{
+                            "dim-characterization",
+                            "Discrete interlocking materials at native scale: rigid elements with "
+                            "intersection-free barrier contact, periodic in-plane and paraboloid bending "
+                            "tests sampled over directions (MPI, checkpointed), strain-space boundaries "
+                            "(CGAL) and polar limit plots.",
+                            &DimCharacterizationScene::declare_parameters,
+                            [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
+                              return std::make_unique<DimCharacterizationScene>(prm);
+                            }}))
 } // namespace nlmech

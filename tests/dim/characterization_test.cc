@@ -14,11 +14,12 @@ using namespace nlmech::dim;
 
 TEST(StrainMeasures, RigidRotationOfACellGivesZeroStrain)
 {
-  const Pattern         pattern = threefold_pattern({}, 1.24e-6);
+  const Pattern            pattern = threefold_pattern({}, 1.24e-6);
   const Eigen::Rotation2Dd Q(0.7);
   // Lattice vectors of the rotated, unstretched cell and of a stretched then rotated one.
-  EXPECT_LT(green_strain(cell_deformation_gradient(Q * pattern.t1, Q * pattern.t2, pattern.t1, pattern.t2)).norm(),
-            1e-15);
+  EXPECT_LT(
+      green_strain(cell_deformation_gradient(Q * pattern.t1, Q * pattern.t2, pattern.t1, pattern.t2)).norm(),
+      1e-15);
   const double          theta = 0.4, ep = 0.03, eo = -0.02;
   const Eigen::Vector2d dp(std::cos(theta), std::sin(theta)), dn(-std::sin(theta), std::cos(theta));
   const Eigen::Matrix2d U = Eigen::Matrix2d::Identity() + ep * dp * dp.transpose() + eo * dn * dn.transpose();
@@ -33,12 +34,12 @@ TEST(StrainMeasures, RigidRotationOfACellGivesZeroStrain)
 
   // The contact energy of a patch moved rigidly (rotation about an arbitrary axis plus a shift)
   // is unchanged.
-  const auto         patch = finite_patch(pattern, 7, PatchShape::hexagon);
-  ContactSettings    contact;
+  const auto      patch = finite_patch(pattern, 7, PatchShape::hexagon);
+  ContactSettings contact;
   contact.dhat = 0.5;
-  ContactBarrier     barrier(patch.assembly, contact);
+  ContactBarrier        barrier(patch.assembly, contact);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  Eigen::VectorXd    moved = patch.q;
+  Eigen::VectorXd       moved = patch.q;
   for (unsigned b = 0; b < patch.assembly->n_bodies(); ++b)
     {
       moved.segment<3>(6 * b) = R * patch.q.segment<3>(6 * b) + Eigen::Vector3d(1, -2, 0.5);
@@ -66,10 +67,11 @@ TEST(InPlaneTest, RingChainStopsAtItsClosedFormStretchLimit)
       const auto   out      = test.solve(1.0, 1e-2, 0.0, 0.0);
       const double expected = 2 * (R - r) / spacing - 1;
       const double link     = (1 + out.principal) * spacing;
-      std::printf("ring chain, N = %u: eps_p %.6f (expected %.6f, %.3f %%), link distance %.5f mm, %u iterations, "
-                  "%.2f s, gap %.2e mm\n",
-                  N, out.principal, expected, 100 * (out.principal / expected - 1), link, out.iterations, out.seconds,
-                  out.smallest_gap);
+      std::printf(
+          "ring chain, N = %u: eps_p %.6f (expected %.6f, %.3f %%), link distance %.5f mm, %u iterations, "
+          "%.2f s, gap %.2e mm\n",
+          N, out.principal, expected, 100 * (out.principal / expected - 1), link, out.iterations, out.seconds,
+          out.smallest_gap);
       EXPECT_LE(link, 2 * (R - r));
       EXPECT_GE(link, 2 * (R * std::cos(M_PI / N) - r) - settings.contact.dhat);
       if (N == 256)
@@ -83,16 +85,16 @@ TEST(InPlaneTest, NoAcceptedStateNorAnyStateBetweenThemIntersects)
   // A 4-in-1 cell driven far into compression: large steps, many contacts. Every state Newton
   // accepts, and 20 states on the straight path between consecutive ones, must keep every surface
   // gap positive (exact distances).
-  const Pattern   pattern = four_in_one_pattern({}, 1.24e-6);
+  const Pattern         pattern = four_in_one_pattern({}, 1.24e-6);
   const Eigen::Vector2d dp(1, 0), dn(0, 1);
-  auto            cell = periodic_cell(pattern, {dp * dp.transpose(), dn * dn.transpose()});
-  ContactSettings contact;
+  auto                  cell = periodic_cell(pattern, {dp * dp.transpose(), dn * dn.transpose()});
+  ContactSettings       contact;
   contact.dhat  = 0.01;
   contact.kappa = 0.01;
   Model model(cell.assembly->n_unknowns());
   model.add_term(std::make_shared<ContactBarrier>(cell.assembly, contact));
-  model.add_term(std::make_shared<ParameterTarget>(cell.assembly->parameter_index(0), std::vector<double>{-0.9, 0.0},
-                                                   std::vector<double>{0.01, 0.0}));
+  model.add_term(std::make_shared<ParameterTarget>(
+      cell.assembly->parameter_index(0), std::vector<double>{-0.9, 0.0}, std::vector<double>{0.01, 0.0}));
   for (unsigned k = 0; k < 3; ++k)
     model.fix(k, cell.q[k]);
   std::vector<Eigen::VectorXd> states{cell.q};
@@ -101,13 +103,13 @@ TEST(InPlaneTest, NoAcceptedStateNorAnyStateBetweenThemIntersects)
   newton.step_tolerance = 1e-9;
   newton.shift_metric   = cell.assembly->motion_metric(cell.q);
   newton.on_accepted    = [&](const Eigen::VectorXd &x) { states.push_back(x); };
-  Eigen::VectorXd q = cell.q;
+  Eigen::VectorXd q     = cell.q;
   minimize_with_newton(model, q, newton);
   double smallest = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k + 1 < states.size(); ++k)
     for (int j = 0; j <= 20; ++j)
-      smallest = std::min(smallest,
-                          cell.assembly->smallest_gap(states[k] + j / 20.0 * (states[k + 1] - states[k]), 1.0).gap);
+      smallest = std::min(
+          smallest, cell.assembly->smallest_gap(states[k] + j / 20.0 * (states[k + 1] - states[k]), 1.0).gap);
   std::printf("4-in-1 compression: %zu accepted states, eps_p %.4f, smallest gap on the path %.3e mm\n",
               states.size() - 1, q[cell.assembly->parameter_index(0)], smallest);
   EXPECT_GT(states.size(), 5u);

@@ -19,7 +19,8 @@ namespace
 {
   /// Largest difference between the analytic gradient and Hessian and central differences,
   /// relative to the largest entry of each.
-  std::pair<double, double> derivative_errors(const EnergyTerm &term, const Eigen::VectorXd &q, const double h)
+  std::pair<double, double> derivative_errors(const EnergyTerm &term, const Eigen::VectorXd &q,
+                                              const double h)
   {
     const Eigen::Index n = q.size();
     Eigen::VectorXd    g = Eigen::VectorXd::Zero(n);
@@ -35,7 +36,7 @@ namespace
       {
         Eigen::VectorXd qp = q, qm = q;
         qp[i] += h, qm[i] -= h;
-        g_fd[i]         = (term.value(qp) - term.value(qm)) / (2 * h);
+        g_fd[i]            = (term.value(qp) - term.value(qm)) / (2 * h);
         Eigen::VectorXd gp = Eigen::VectorXd::Zero(n), gm = Eigen::VectorXd::Zero(n);
         term.add_gradient(qp, gp), term.add_gradient(qm, gm);
         H_fd.col(i) = (gp - gm) / (2 * h);
@@ -44,7 +45,8 @@ namespace
             (H - H_fd).lpNorm<Eigen::Infinity>() / H.lpNorm<Eigen::Infinity>()};
   }
 
-  Eigen::VectorXd state(const std::vector<Eigen::Matrix<double, 6, 1>> &bodies, const std::vector<double> &params = {})
+  Eigen::VectorXd state(const std::vector<Eigen::Matrix<double, 6, 1>> &bodies,
+                        const std::vector<double>                      &params = {})
   {
     Eigen::VectorXd q(6 * bodies.size() + params.size());
     for (std::size_t b = 0; b < bodies.size(); ++b)
@@ -94,7 +96,8 @@ TEST(PrimitiveDistance, RotationVectorGivesTheRotationMatrix)
   EXPECT_LT((R - E).norm(), 1e-14);
   // The series branch near zero.
   const Eigen::Vector3d small(1e-3, 2e-3, -3e-3);
-  EXPECT_LT((RigidAssembly::rotation(small) - Eigen::AngleAxisd(small.norm(), small.normalized()).toRotationMatrix())
+  EXPECT_LT((RigidAssembly::rotation(small) -
+             Eigen::AngleAxisd(small.norm(), small.normalized()).toRotationMatrix())
                 .norm(),
             1e-15);
 }
@@ -108,8 +111,9 @@ TEST(ContactBarrier, DerivativesOfTwoRingsMatchFiniteDifferences)
   ContactSettings settings;
   settings.dhat             = 0.2;
   settings.project_hessians = false;
-  ContactBarrier  barrier(assembly, settings);
-  const auto      q = state({body(0, 0, 0, 0.01, -0.02, 0.03), body(3.9, 0.05, -0.02, M_PI / 2 + 0.02, 0.01, 0.04)});
+  ContactBarrier barrier(assembly, settings);
+  const auto     q =
+      state({body(0, 0, 0, 0.01, -0.02, 0.03), body(3.9, 0.05, -0.02, M_PI / 2 + 0.02, 0.01, 0.04)});
   ASSERT_TRUE(barrier.is_valid(q));
   const auto pairs = assembly->contact_pairs(q, settings.dhat);
   ASSERT_GE(pairs.size(), 2u);
@@ -123,8 +127,9 @@ TEST(ContactBarrier, DerivativesWithSeparationAndPlatesMatchFiniteDifferences)
 {
   // Scale-mail elements: plate faces against plate points (point-plane pairs) and ring tubes, with
   // a print clearance of 0.05 mm.
-  auto shape    = scale_mail_element(3, 0.6, 0.0, 48, 3.4, 0.6, 1.6, 1e-6);
-  auto assembly = std::make_shared<RigidAssembly>(std::vector<ElementShape>{shape}, std::vector<unsigned>{0, 0});
+  auto shape = scale_mail_element(3, 0.6, 0.0, 48, 3.4, 0.6, 1.6, 1e-6);
+  auto assembly =
+      std::make_shared<RigidAssembly>(std::vector<ElementShape>{shape}, std::vector<unsigned>{0, 0});
   ContactSettings settings;
   settings.dhat             = 0.3;
   settings.separation       = 0.05;
@@ -140,8 +145,8 @@ TEST(ContactBarrier, DerivativesWithSeparationAndPlatesMatchFiniteDifferences)
     plane += p.type == DistanceType::point_plane;
   ASSERT_GE(plane, 1u);
   const auto [eg, eh] = derivative_errors(barrier, q, 1e-7);
-  std::printf("plates: %zu pairs (%u point-plane), gradient error %.2e, Hessian error %.2e\n", pairs.size(), plane,
-              eg, eh);
+  std::printf("plates: %zu pairs (%u point-plane), gradient error %.2e, Hessian error %.2e\n", pairs.size(),
+              plane, eg, eh);
   EXPECT_LT(eg, 1e-6);
   EXPECT_LT(eh, 1e-5);
 }
@@ -177,7 +182,8 @@ TEST(ContactBarrier, DerivativesThroughPeriodicImagesAndParaboloidMatchFiniteDif
     settings.dhat             = 0.3;
     settings.project_hessians = false;
     ContactBarrier barrier(assembly, settings);
-    const auto q = state({body(-0.5, 0.2, 0, 0.05, 0.02, 0.1), body(7.6, 0.3, 0, 0.02, -0.03, 0.1)}, {0.01, -0.02, 0.005});
+    const auto     q = state({body(-0.5, 0.2, 0, 0.05, 0.02, 0.1), body(7.6, 0.3, 0, 0.02, -0.03, 0.1)},
+                             {0.01, -0.02, 0.005});
     ASSERT_TRUE(barrier.is_valid(q));
     ASSERT_GE(assembly->contact_pairs(q, settings.dhat).size(), 1u);
     const auto [eg, eh] = derivative_errors(barrier, q, 1e-7);
@@ -199,12 +205,14 @@ TEST(ContactBarrier, ProjectedHessianIsPositiveSemiDefinite)
   ContactSettings settings;
   settings.dhat = 0.2;
   ContactBarrier barrier(assembly, settings);
-  const auto     q = state({body(0, 0, 0, 0.01, -0.02, 0.03), body(3.9, 0.05, -0.02, M_PI / 2 + 0.02, 0.01, 0.04)});
-  Triplets       t;
+  const auto     q =
+      state({body(0, 0, 0, 0.01, -0.02, 0.03), body(3.9, 0.05, -0.02, M_PI / 2 + 0.02, 0.01, 0.04)});
+  Triplets t;
   barrier.add_hessian(q, t);
   Eigen::SparseMatrix<double> H(12, 12);
   H.setFromTriplets(t.begin(), t.end());
-  const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(H)).eigenvalues();
+  const Eigen::VectorXd lambda =
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(H)).eigenvalues();
   EXPECT_GE(lambda.minCoeff(), -1e-10 * lambda.maxCoeff());
 }
 
@@ -230,7 +238,7 @@ TEST(LinkedTori, LargestCentreDistanceIsTwiceTheHoleRadius)
   NewtonSettings newton;
   newton.max_iterations = 200;
   newton.step_tolerance = 1e-10;
-  const auto result     = minimize_with_newton(model, q, newton);
+  const auto   result   = minimize_with_newton(model, q, newton);
   const double distance = (assembly->centre(q, 1) - assembly->centre(q, 0)).norm();
   const double expected = 2 * (R - r);
   std::printf("linked tori: distance %.6f mm, expected %.6f (%.3f %%), %u Newton iterations, gap %.2e mm\n",
@@ -263,7 +271,8 @@ TEST(LinkedTori, TightAndImpossibleLinksAreRejectedAndTheFreeRangeClosesAtRIsTwo
           model.add_term(std::make_shared<ContactBarrier>(placed.assembly, settings));
           model.add_term(std::make_shared<CentreForces>(
               placed.assembly,
-              std::vector<Eigen::Vector3d>{Eigen::Vector3d::Zero(), Eigen::Vector3d(side == 0 ? 1e-3 : -1e-3, 0, 0)}));
+              std::vector<Eigen::Vector3d>{Eigen::Vector3d::Zero(),
+                                           Eigen::Vector3d(side == 0 ? 1e-3 : -1e-3, 0, 0)}));
           for (unsigned k = 0; k < 12; ++k)
             if (k != 6)
               model.fix(k, placed.q[k]);
@@ -274,8 +283,8 @@ TEST(LinkedTori, TightAndImpossibleLinksAreRejectedAndTheFreeRangeClosesAtRIsTwo
           minimize_with_newton(model, q, newton);
           ends[side] = q[6];
         }
-      std::printf("R = %.1f r: centre distance from %.4f to %.4f mm (closed form %.4f to %.4f)\n", R, ends[1], ends[0],
-                  2 * r, 2 * (R - r));
+      std::printf("R = %.1f r: centre distance from %.4f to %.4f mm (closed form %.4f to %.4f)\n", R, ends[1],
+                  ends[0], 2 * r, 2 * (R - r));
       EXPECT_NEAR(ends[0], 2 * (R - r), 0.005 * 2 * (R - r));
       EXPECT_NEAR(ends[1], 2 * r, 0.005 * 2 * r);
     }

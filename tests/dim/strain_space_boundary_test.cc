@@ -41,8 +41,8 @@ TEST(StrainSpaceBoundary, EllipsoidIsClosedContainsRestAndHasItsVolume)
   const auto            boundary = star_shaped_boundary(samples, rest, axes);
   const auto            c        = check(boundary);
   const double          exact    = 4.0 / 3.0 * M_PI * axes.prod();
-  std::printf("ellipsoid: %zu vertices, %zu triangles, volume %.6e (exact %.6e, %.2f %%)\n", c.vertices, c.triangles,
-              c.volume, exact, 100 * (c.volume / exact - 1));
+  std::printf("ellipsoid: %zu vertices, %zu triangles, volume %.6e (exact %.6e, %.2f %%)\n", c.vertices,
+              c.triangles, c.volume, exact, 100 * (c.volume / exact - 1));
   EXPECT_TRUE(c.closed);
   EXPECT_TRUE(c.contains_rest);
   EXPECT_EQ(c.flipped, 0u);
@@ -56,7 +56,7 @@ TEST(StrainSpaceBoundary, EllipsoidIsClosedContainsRestAndHasItsVolume)
 
 TEST(StrainSpaceBoundary, NonConvexStarShapedSetKeepsItsDents)
 {
-  const Eigen::Vector3d rest = Eigen::Vector3d::Zero(), axes(1, 1, 1);
+  const Eigen::Vector3d rest     = Eigen::Vector3d::Zero(), axes(1, 1, 1);
   const auto            boundary = star_shaped_boundary(star_samples(rest, axes, 0.4, 24), rest, axes);
   const auto            c        = check(boundary);
   EXPECT_TRUE(c.closed);
@@ -70,8 +70,9 @@ TEST(StrainSpaceBoundary, NonConvexStarShapedSetKeepsItsDents)
 
 TEST(StrainSpaceBoundary, FileRoundTripAndMalformedFiles)
 {
-  const auto  boundary = star_shaped_boundary(star_samples(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 2, 3), 0, 8),
-                                              Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
+  const auto boundary =
+      star_shaped_boundary(star_samples(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 2, 3), 0, 8),
+                           Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
   const std::string path = "boundary_round_trip.ssb";
   write_boundary(path, boundary, "test boundary\nsecond comment line");
   const auto back = read_boundary(path);
@@ -82,8 +83,9 @@ TEST(StrainSpaceBoundary, FileRoundTripAndMalformedFiles)
   EXPECT_EQ(back.triangles, boundary.triangles);
   EXPECT_EQ(back.kind, boundary.kind);
   // A triangle pointing at a missing vertex, and a truncated file.
-  std::ofstream("bad.ssb") << "nlmech-strain-space-boundary 1\nkind stretch\naxes a b c\nrest 0 0 0\nvertices 1\n"
-                              "0 0 0\ntriangles 1\n0 1 2\n";
+  std::ofstream("bad.ssb")
+      << "nlmech-strain-space-boundary 1\nkind stretch\naxes a b c\nrest 0 0 0\nvertices 1\n"
+         "0 0 0\ntriangles 1\n0 1 2\n";
   try
     {
       read_boundary("bad.ssb");

@@ -26,10 +26,10 @@ namespace nlmech::dim
   struct NativeSolveSettings
   {
     ContactSettings contact;
-    double          target_weight  = 1.0;  // w of the driven component [N mm]
+    double          target_weight  = 1.0;   // w of the driven component [N mm]
     double          hold_weight    = 100.0; // w of a component held at a level [N mm]
     unsigned int    max_iterations = 400;
-    double          step_tolerance = 1e-7; // mm and rad (projected Newton converges linearly at the end)
+    double          step_tolerance = 1e-7;    // mm and rad (projected Newton converges linearly at the end)
     double          gravity        = 9.81e-3; // N/kg, so that m g z is in N mm with z in mm
   };
 
@@ -48,9 +48,9 @@ namespace nlmech::dim
     InPlaneTest(const Pattern &pattern, double theta, NativeSolveSettings settings);
     /// Drives (eps_p, eps_o) towards the targets with the given weights (0: free), from the rest
     /// state (or from the last solution with `continue_from_last`).
-    TestOutcome solve(double target_p, double weight_p, double target_o, double weight_o,
-                      bool continue_from_last = false);
-    const RigidAssembly &assembly() const { return *cell.assembly; }
+    TestOutcome            solve(double target_p, double weight_p, double target_o, double weight_o,
+                                 bool continue_from_last = false);
+    const RigidAssembly   &assembly() const { return *cell.assembly; }
     const Eigen::VectorXd &state() const { return q; }
     double                 theta() const { return angle; }
 
@@ -66,16 +66,16 @@ namespace nlmech::dim
   {
   public:
     BendingTest(const Pattern &pattern, unsigned int n_elements, double theta, NativeSolveSettings settings);
-    TestOutcome solve(double target_p, double weight_p, double target_o, double weight_o,
-                      bool continue_from_last = false);
-    const RigidAssembly &assembly() const { return *patch.assembly; }
+    TestOutcome            solve(double target_p, double weight_p, double target_o, double weight_o,
+                                 bool continue_from_last = false);
+    const RigidAssembly   &assembly() const { return *patch.assembly; }
     const Eigen::VectorXd &state() const { return q; }
 
   private:
-    PlacedAssembly      patch;
-    double              angle;
-    NativeSolveSettings settings;
-    Eigen::VectorXd     q;
+    PlacedAssembly               patch;
+    double                       angle;
+    NativeSolveSettings          settings;
+    Eigen::VectorXd              q;
     std::vector<Eigen::Vector3d> gravity_forces;
   };
 
@@ -137,8 +137,8 @@ namespace nlmech::dim
   {
     std::string     test; // "in-plane" or "bending"
     unsigned int    direction = 0, level = 0;
-    double          theta = 0;
-    SampleKind      kind  = SampleKind::positive;
+    double          theta    = 0;
+    SampleKind      kind     = SampleKind::positive;
     double          target_p = 0, target_o = 0;
     TestOutcome     outcome;
     Eigen::Vector3d point = Eigen::Vector3d::Zero(); // Green strain or curvature tensor components
@@ -150,16 +150,17 @@ namespace nlmech::dim
   /// once (atomically) to `checkpoint_directory`, where a resumed run finds it and skips the job.
   /// Returns all samples of the test, in job order, on every rank. `progress(done, total)` is
   /// called on each rank after each of its samples.
-  std::vector<Sample> sample_strain_space(const Pattern &pattern, const std::string &test, const SamplingPlan &plan,
-                                          const NativeSolveSettings &settings, const std::string &checkpoint_directory,
-                                          MPI_Comm                                                comm,
-                                          const std::function<void(unsigned, unsigned, const Sample &)> &progress);
+  std::vector<Sample>
+  sample_strain_space(const Pattern &pattern, const std::string &test, const SamplingPlan &plan,
+                      const NativeSolveSettings &settings, const std::string &checkpoint_directory,
+                      MPI_Comm comm, const std::function<void(unsigned, unsigned, const Sample &)> &progress);
 
   /// Per direction: the uniaxial limits of phase 1 (principal and the orthogonal value reached).
   struct DirectionalLimits
   {
-    double theta = 0;
+    double theta      = 0;
     double positive_p = 0, positive_o = 0, negative_p = 0, negative_o = 0;
   };
-  std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples, unsigned int directions);
+  std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples,
+                                                    unsigned int               directions);
 } // namespace nlmech::dim

@@ -14,8 +14,8 @@ namespace nlmech::dim
   /// state q, for the given images of each body (periodic cells: e.g. the 3 x 3 block around the
   /// cell); `element` receives the body index per triangle.
   RawSimplexMesh<3> element_surfaces(const RigidAssembly &assembly, const Eigen::VectorXd &q,
-                                     const std::vector<std::array<int, 2>> &images, std::vector<double> &element,
-                                     unsigned int sides = 8);
+                                     const std::vector<std::array<int, 2>> &images,
+                                     std::vector<double> &element, unsigned int sides = 8);
 
   /// Writes the surfaces (element index as a cell field) to a VTU file.
   void write_elements_vtu(const RigidAssembly &assembly, const Eigen::VectorXd &q,

@@ -21,9 +21,9 @@ namespace nlmech::dim
     std::vector<double>                  segment_radius;
     std::vector<std::array<unsigned, 3>> triangles;
     std::vector<double>                  triangle_radius;
-    std::vector<unsigned>                loop; // the closed centreline (for linking numbers)
-    double                               mass              = 0; // kg
-    double                               centreline_error  = 0; // mm, polygon vs exact curve
+    std::vector<unsigned>                loop;                 // the closed centreline (for linking numbers)
+    double                               mass             = 0; // kg
+    double                               centreline_error = 0; // mm, polygon vs exact curve
     /// Largest distance of any surface point from the body origin (points plus radius).
     double bounding_radius() const;
     /// Centre of mass of the primitives (uniform density); the generators move it to the origin.
@@ -38,7 +38,8 @@ namespace nlmech::dim
   /// A wavy ring: centreline (R cos t, R sin t, h cos k (t - phase)), tube radius r, N segments.
   /// With k even, identical wavy rings whose circles overlap are linked (one passes over and under
   /// the other at the two crossings); k = 6 gives the six-neighbour rings of the threefold chainmail.
-  ElementShape wave_ring(double R, double r, double h, unsigned int k, double phase, unsigned int N, double density);
+  ElementShape wave_ring(double R, double r, double h, unsigned int k, double phase, unsigned int N,
+                         double density);
 
   /// A (p, q) torus-knot tube: ((R + a cos q t) cos p t, (R + a cos q t) sin p t, -a sin q t),
   /// t in [0, 2 pi), tube radius r, N segments. Requires gcd(p, q) = 1, a < R.

@@ -27,8 +27,8 @@ namespace nlmech::dim
   {
     std::string                  name;
     std::vector<ElementShape>    shapes;
-    std::vector<unsigned>        shape_of; // per element of the cell
-    std::vector<Eigen::Vector3d> centres;  // in the cell [mm]
+    std::vector<unsigned>        shape_of;  // per element of the cell
+    std::vector<Eigen::Vector3d> centres;   // in the cell [mm]
     std::vector<Eigen::Vector3d> rotations; // rotation vectors
     Eigen::Vector2d              t1 = Eigen::Vector2d::Zero(), t2 = Eigen::Vector2d::Zero();
     unsigned int                 neighbours = 0; // links per element by design
@@ -52,7 +52,7 @@ namespace nlmech::dim
   };
   struct ScaleMailDimensions
   {
-    double       R = 4, r = 0.5, h = 0.8, D = 5.657, plate_radius = 2.45, plate_thickness = 0.8, plate_height = 2.3;
+    double R = 4, r = 0.5, h = 0.8, D = 5.657, plate_radius = 2.45, plate_thickness = 0.8, plate_height = 2.3;
     unsigned int segments = 96;
   };
 
@@ -97,8 +97,8 @@ namespace nlmech::dim
   PlacedAssembly linked_ring_pair(double R, double r, unsigned int segments, double density);
 
   /// The world centreline polyline of one element (or its image) at a state.
-  std::vector<Eigen::Vector3d> centreline(const RigidAssembly &assembly, const Eigen::VectorXd &q, unsigned body,
-                                          std::array<int, 2> image = {0, 0});
+  std::vector<Eigen::Vector3d> centreline(const RigidAssembly &assembly, const Eigen::VectorXd &q,
+                                          unsigned body, std::array<int, 2> image = {0, 0});
 
   /// Element pairs (with image offsets) whose centrelines are linked, and the count per element.
   struct Links

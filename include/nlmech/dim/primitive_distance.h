@@ -34,14 +34,15 @@ namespace nlmech::dim
   };
 
   /// Segment (a0, a1) against segment (b0, b1); local point numbers 0, 1 (a) and 2, 3 (b).
-  ClosestType segment_segment_type(const Eigen::Vector3d &a0, const Eigen::Vector3d &a1, const Eigen::Vector3d &b0,
-                                   const Eigen::Vector3d &b1);
+  ClosestType segment_segment_type(const Eigen::Vector3d &a0, const Eigen::Vector3d &a1,
+                                   const Eigen::Vector3d &b0, const Eigen::Vector3d &b1);
   /// Point p against triangle (t0, t1, t2); local point numbers 0 (p) and 1, 2, 3 (triangle).
-  ClosestType point_triangle_type(const Eigen::Vector3d &p, const Eigen::Vector3d &t0, const Eigen::Vector3d &t1,
-                                  const Eigen::Vector3d &t2);
+  ClosestType point_triangle_type(const Eigen::Vector3d &p, const Eigen::Vector3d &t0,
+                                  const Eigen::Vector3d &t1, const Eigen::Vector3d &t2);
   /// Exact distance between segment (a0, a1) and triangle (t0, t1, t2), 0 where they cross.
-  double segment_triangle_distance(const Eigen::Vector3d &a0, const Eigen::Vector3d &a1, const Eigen::Vector3d &t0,
-                                   const Eigen::Vector3d &t1, const Eigen::Vector3d &t2);
+  double segment_triangle_distance(const Eigen::Vector3d &a0, const Eigen::Vector3d &a1,
+                                   const Eigen::Vector3d &t0, const Eigen::Vector3d &t1,
+                                   const Eigen::Vector3d &t2);
 
   template <typename S>
   using Point = std::array<S, 3>;

@@ -22,8 +22,8 @@
 
 #include <array>
 #include <limits>
-#include <tuple>
 #include <memory>
+#include <tuple>
 #include <vector>
 
 namespace nlmech::dim
@@ -37,9 +37,9 @@ namespace nlmech::dim
 
   struct ContactSettings
   {
-    double dhat       = 0.01; // barrier activation gap [mm]
-    double kappa      = 1.0;  // barrier stiffness [N mm]
-    double separation = 0.0;  // minimum gap kept between surfaces (print clearance) [mm]
+    double dhat             = 0.01; // barrier activation gap [mm]
+    double kappa            = 1.0;  // barrier stiffness [N mm]
+    double separation       = 0.0;  // minimum gap kept between surfaces (print clearance) [mm]
     bool   project_hessians = true; // per-pair Hessians projected to positive semi-definite
   };
 
@@ -69,7 +69,7 @@ namespace nlmech::dim
 
     /// Paraboloid placement: (A, B, C) = sum_j p_j K_j over the given basis (default: the unit
     /// vectors, p = (A, B, C)).
-    void set_curvature_basis(const std::vector<Eigen::Vector3d> &basis);
+    void                                set_curvature_basis(const std::vector<Eigen::Vector3d> &basis);
     const std::vector<Eigen::Vector3d> &curvature_basis() const { return curvature; }
 
     std::size_t n_bodies() const { return shape_of.size(); }
@@ -78,12 +78,13 @@ namespace nlmech::dim
     std::size_t parameter_index(unsigned int j) const { return 6 * n_bodies() + j; }
     Placement   placement() const { return place; }
 
-    const ElementShape &shape(unsigned int body) const { return shapes[shape_of[body]]; }
+    const ElementShape                 &shape(unsigned int body) const { return shapes[shape_of[body]]; }
     const std::vector<Eigen::Matrix2d> &strain_basis() const { return basis; }
-    Eigen::Vector2d                     reference_lattice(unsigned int k) const { return k == 0 ? tbar1 : tbar2; }
+    Eigen::Vector2d reference_lattice(unsigned int k) const { return k == 0 ? tbar1 : tbar2; }
 
     /// Centre of body i (image offset included) and a body-frame point in the world.
-    Eigen::Vector3d centre(const Eigen::VectorXd &q, unsigned int body, std::array<int, 2> image = {0, 0}) const;
+    Eigen::Vector3d centre(const Eigen::VectorXd &q, unsigned int body,
+                           std::array<int, 2> image = {0, 0}) const;
     Eigen::Vector3d world_point(const Eigen::VectorXd &q, unsigned int body, const Eigen::Vector3d &p,
                                 std::array<int, 2> image = {0, 0}) const;
     /// The current lattice vectors (periodic placement).
@@ -97,7 +98,7 @@ namespace nlmech::dim
     /// gap of minus the radii), with the bodies involved; +inf when nothing is within `reach`.
     struct Gap
     {
-      double             gap = std::numeric_limits<double>::infinity();
+      double             gap    = std::numeric_limits<double>::infinity();
       unsigned int       body_a = 0, body_b = 0;
       std::array<int, 2> image{0, 0};
     };
@@ -125,16 +126,16 @@ namespace nlmech::dim
     /// faces' primitives, the lists the pair search runs over.
     struct Primitives
     {
-      std::vector<std::array<unsigned, 2>> edges;
-      std::vector<double>                  edge_radius;
-      std::vector<std::array<unsigned, 3>> faces;
-      std::vector<double>                  face_radius;
+      std::vector<std::array<unsigned, 2>>     edges;
+      std::vector<double>                      edge_radius;
+      std::vector<std::array<unsigned, 3>>     faces;
+      std::vector<double>                      face_radius;
       std::vector<std::pair<unsigned, double>> vertices; // points of primitives, with radius (deduplicated)
     };
 
     /// Body pairs (a, b, image of b) whose bounding spheres come within `reach`.
     std::vector<std::tuple<unsigned, unsigned, std::array<int, 2>>> body_pairs(const Eigen::VectorXd &q,
-                                                                                double reach) const;
+                                                                               double reach) const;
     /// Exact surface gap between body a and the image of body b (radii subtracted); where it is at
     /// least `cutoff`, some value of at least `cutoff` (infinity when no primitive comes that close).
     double exact_gap(const Eigen::VectorXd &q, unsigned a, unsigned b, const std::array<int, 2> &image,
@@ -144,14 +145,15 @@ namespace nlmech::dim
                                               std::array<int, 2> image = {0, 0}) const;
 
   private:
-    std::vector<ElementShape>  shapes;
-    std::vector<Primitives>    primitives;
-    std::vector<double>        reach_radius; // max |p| over a shape's points
-    std::vector<unsigned int>  shape_of;
-    Placement                  place;
-    Eigen::Vector2d            tbar1 = Eigen::Vector2d::Zero(), tbar2 = Eigen::Vector2d::Zero();
+    std::vector<ElementShape>    shapes;
+    std::vector<Primitives>      primitives;
+    std::vector<double>          reach_radius; // max |p| over a shape's points
+    std::vector<unsigned int>    shape_of;
+    Placement                    place;
+    Eigen::Vector2d              tbar1 = Eigen::Vector2d::Zero(), tbar2 = Eigen::Vector2d::Zero();
     std::vector<Eigen::Matrix2d> basis;
-    std::vector<Eigen::Vector3d> curvature{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
+    std::vector<Eigen::Vector3d> curvature{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
+                                           Eigen::Vector3d::UnitZ()};
 
     int image_range() const;
   };
@@ -231,7 +233,7 @@ namespace nlmech::dim
     std::shared_ptr<const RigidAssembly> assembly;
     ContactSettings                      contact;
     template <typename S>
-    S pair_energy(const ContactPair &pair, const std::array<S, 15> &v) const;
+    S                    pair_energy(const ContactPair &pair, const std::array<S, 15> &v) const;
     std::array<long, 15> pair_dofs(const ContactPair &pair) const;
   };
 

@@ -51,8 +51,8 @@ namespace nlmech::dim
   /// Triangulates boundary samples about `rest`; axes are scaled by `scale` (per axis) before the
   /// radial projection, so that the triangulation does not depend on the units. Samples within
   /// 1e-9 (scaled) of the rest state or in a direction already taken are dropped.
-  StrainSpaceBoundary star_shaped_boundary(const std::vector<Eigen::Vector3d> &samples, const Eigen::Vector3d &rest,
-                                           const Eigen::Vector3d &scale);
+  StrainSpaceBoundary star_shaped_boundary(const std::vector<Eigen::Vector3d> &samples,
+                                           const Eigen::Vector3d &rest, const Eigen::Vector3d &scale);
 
   BoundaryCheck check(const StrainSpaceBoundary &boundary);
 

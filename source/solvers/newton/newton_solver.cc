@@ -86,7 +86,8 @@ namespace nlmech
           Eigen::SparseMatrix<double> A = M;
           if (shift > 0)
             for (std::size_t k = 0; k < m; ++k)
-              A.coeffRef(k, k) += shift * (settings.shift_metric.size() ? settings.shift_metric[free_dofs[k]] : 1.0);
+              A.coeffRef(k, k) +=
+                  shift * (settings.shift_metric.size() ? settings.shift_metric[free_dofs[k]] : 1.0);
           // The symbolic analysis is reused while the Hessian's pattern does not change.
           if (A.nonZeros() != analysed_nonzeros)
             {
@@ -99,8 +100,9 @@ namespace nlmech
             return false;
           dx_free = cholesky.solve(-g);
           if (std::getenv("NLMECH_NEWTON_DEBUG") && !(dx_free.dot(g) < 0))
-            std::fprintf(stderr, "newton: shift %.3e factorised but gives no descent (dx.g = %.3e, |dx| = %.3e)\n",
-                         shift, dx_free.dot(g), dx_free.norm());
+            std::fprintf(stderr,
+                                    "newton: shift %.3e factorised but gives no descent (dx.g = %.3e, |dx| = %.3e)\n",
+                                    shift, dx_free.dot(g), dx_free.norm());
           return dx_free.dot(g) < 0;
         };
         const double shift_floor = 1e-8 * (diagonal_scale > 0 ? diagonal_scale : 1.0);
@@ -114,9 +116,11 @@ namespace nlmech
                 bool finite = true;
                 for (Eigen::Index k = 0; k < Hf.nonZeros(); ++k)
                   finite = finite && std::isfinite(Hf.valuePtr()[k]);
-                AssertThrow(false, dealii::ExcMessage(finite ? "Newton: the Hessian could not be made positive "
-                                                               "definite (shift " + std::to_string(shift) + ")." :
-                                                               "Newton: the Hessian has non-finite entries."));
+                AssertThrow(false,
+                            dealii::ExcMessage(finite ? "Newton: the Hessian could not be made positive "
+                                                        "definite (shift " +
+                                                            std::to_string(shift) + ")."
+                                                      : "Newton: the Hessian has non-finite entries."));
               }
             shift = (shift == 0 ? shift_floor : 10 * shift);
           }
@@ -157,11 +161,12 @@ namespace nlmech
           {
             Eigen::Index largest;
             dx.cwiseAbs().maxCoeff(&largest);
-            std::fprintf(stderr,
-                         "newton it %3u energy %.12e |g| %.3e safe %.3e alpha %.3e shift %.2e |dx| %.3e (largest: "
-                         "unknown %ld)\n",
-                         result.iterations, energy, g.norm(), safe, accepted ? alpha : 0.0, shift, dx.norm(),
-                         long(largest));
+            std::fprintf(
+                stderr,
+                "newton it %3u energy %.12e |g| %.3e safe %.3e alpha %.3e shift %.2e |dx| %.3e (largest: "
+                "unknown %ld)\n",
+                result.iterations, energy, g.norm(), safe, accepted ? alpha : 0.0, shift, dx.norm(),
+                long(largest));
           }
         AssertThrow(accepted, dealii::ExcMessage("Newton: the line search found no decrease (gradient norm " +
                                                  std::to_string(g.norm()) + ")."));
@@ -170,7 +175,8 @@ namespace nlmech
         short_steps = safe < 0.5 ? short_steps + 1 : 0;
         if (settings.grow_shift_on_short_steps && short_steps >= 2)
           last_shift = std::min(100 * std::max(shift, shift_floor), 1e3 * std::max(diagonal_scale, 1e-300));
-        if (settings.step_tolerance > 0 && alpha == 1.0 && dx.lpNorm<Eigen::Infinity>() <= settings.step_tolerance)
+        if (settings.step_tolerance > 0 && alpha == 1.0 &&
+            dx.lpNorm<Eigen::Infinity>() <= settings.step_tolerance)
           {
             ++result.iterations;
             result.gradient_norm = g.norm();

@@ -26,8 +26,8 @@ namespace nlmech
     double step_tolerance = 0;
     /// Levenberg-Marquardt-like damping of near-null directions: when the safe step (a collision
     /// bound) cuts two steps in a row below half, the next shift starts ten times higher (it still
-    /// falls by ten per unhindered iteration). Without it, a Hessian that is singular along free motions (slack
-    /// elements in contact problems) gives huge steps that the collision bound cuts to crawling.
+    /// falls by ten per unhindered iteration). Without it, a Hessian that is singular along free motions
+    /// (slack elements in contact problems) gives huge steps that the collision bound cuts to crawling.
     bool grow_shift_on_short_steps = false;
     /// Per-unknown weights of the diagonal shift (empty: identity). Unknowns of different kinds
     /// (lengths, angles, strains) need a shift in consistent units: the squared length of motion a
