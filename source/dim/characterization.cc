@@ -263,6 +263,8 @@ namespace nlmech::dim
       for (std::size_t j = 0; j < jobs.size(); ++j)
         if (!fs::exists(checkpoint_directory + "/" + jobs[j].key() + ".sample"))
           open.push_back(j);
+      // Every rank must see the same open jobs before anybody writes a new sample.
+      MPI_Barrier(comm);
       std::string error;
       unsigned    done = 0, mine = 0;
       for (std::size_t k = rank; k < open.size(); k += size)
