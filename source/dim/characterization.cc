@@ -28,7 +28,7 @@ namespace nlmech::dim
       NewtonSettings newton;
       newton.max_iterations = settings.max_iterations;
       newton.step_tolerance = settings.step_tolerance;
-      // Forces balanced to 1e-8 of the first gradient also end the solve: slack elements can keep
+      // Forces balanced to 1e-6 of the first gradient also end the solve: slack elements can keep
       // drifting along near-null motions with steps above the step tolerance long after the limit
       // (set by the force balance) has converged.
       newton.relative_tolerance        = 1e-8;

@@ -111,6 +111,9 @@ namespace nlmech
           {
             if (try_solve(Hf, shift))
               break;
+            // At a numerically stationary point no shift gives descent (dx.g rounds to >= 0).
+            if (attempt >= 20 && result.gradient_norm <= 1e-6 * g0)
+              return result;
             if (attempt >= 20)
               {
                 bool finite = true;
