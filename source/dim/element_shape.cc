@@ -37,6 +37,30 @@ namespace nlmech::dim
         }
       return points;
     }
+    /// A closed tube around the curve c(t), t in [0, 2 pi), sampled at N points, with its chord
+    /// sagitta (measured at the curve's midpoints) as the centreline error, centred at its centre of
+    /// mass.
+    template <typename Curve>
+    ElementShape closed_curve_tube(const Curve &curve, const unsigned int N, const double r,
+                                   const double density, std::string name)
+    {
+      std::vector<Eigen::Vector3d> points;
+      double                       worst_chord = 0;
+      for (unsigned int i = 0; i < N; ++i)
+        {
+          const double t0 = 2 * M_PI * i / N, t1 = 2 * M_PI * (i + 1) / N;
+          points.push_back(curve(t0));
+          worst_chord =
+              std::max(worst_chord, (curve(0.5 * (t0 + t1)) - 0.5 * (curve(t0) + curve(t1))).norm());
+        }
+      ElementShape shape;
+      shape.name = std::move(name);
+      add_closed_polyline(shape, points, r);
+      shape.centreline_error = worst_chord;
+      shape.mass             = density * shape.volume();
+      centre_shape(shape);
+      return shape;
+    }
   } // namespace
 
   double ElementShape::bounding_radius() const
@@ -116,27 +140,12 @@ namespace nlmech::dim
                 dealii::ExcMessage("Torus knot: needs 0 < a < R and r > 0."));
     AssertThrow(N >= 8 * (p + q),
                 dealii::ExcMessage("Torus knot: needs at least 8 (p + q) centreline segments."));
-    std::vector<Eigen::Vector3d> points;
-    double                       worst_chord = 0;
-    auto                         curve       = [&](const double t) {
+    auto curve = [&](const double t) {
       return Eigen::Vector3d((R + a * std::cos(q * t)) * std::cos(p * t),
-                                                           (R + a * std::cos(q * t)) * std::sin(p * t), -a * std::sin(q * t));
+                             (R + a * std::cos(q * t)) * std::sin(p * t), -a * std::sin(q * t));
     };
-    for (unsigned int i = 0; i < N; ++i)
-      {
-        const double t0 = 2 * M_PI * i / N, t1 = 2 * M_PI * (i + 1) / N;
-        points.push_back(curve(t0));
-        // Sagitta of the chord, measured at the curve's midpoint.
-        const Eigen::Vector3d mid = curve(0.5 * (t0 + t1)), chord_mid = 0.5 * (curve(t0) + curve(t1));
-        worst_chord = std::max(worst_chord, (mid - chord_mid).norm());
-      }
-    ElementShape shape;
-    shape.name = "(" + std::to_string(p) + "," + std::to_string(q) + ") torus knot";
-    add_closed_polyline(shape, points, r);
-    shape.centreline_error = worst_chord;
-    shape.mass             = density * shape.volume();
-    centre_shape(shape);
-    return shape;
+    return closed_curve_tube(curve, N, r, density,
+                             "(" + std::to_string(p) + "," + std::to_string(q) + ") torus knot");
   }
 
   ElementShape wave_ring(const double R, const double r, const double h, const unsigned int k,
@@ -150,21 +159,8 @@ namespace nlmech::dim
     auto curve = [&](const double t) {
       return Eigen::Vector3d(R * std::cos(t), R * std::sin(t), h * std::cos(k * (t - phase)));
     };
-    std::vector<Eigen::Vector3d> points;
-    double                       worst_chord = 0;
-    for (unsigned int i = 0; i < N; ++i)
-      {
-        const double t0 = 2 * M_PI * i / N, t1 = 2 * M_PI * (i + 1) / N;
-        points.push_back(curve(t0));
-        worst_chord = std::max(worst_chord, (curve(0.5 * (t0 + t1)) - 0.5 * (curve(t0) + curve(t1))).norm());
-      }
-    ElementShape shape;
-    shape.name = h > 0 ? "wave ring (k = " + std::to_string(k) + ")" : "torus ring";
-    add_closed_polyline(shape, points, r);
-    shape.centreline_error = worst_chord;
-    shape.mass             = density * shape.volume();
-    centre_shape(shape);
-    return shape;
+    return closed_curve_tube(curve, N, r, density,
+                             h > 0 ? "wave ring (k = " + std::to_string(k) + ")" : "torus ring");
   }
 
   ElementShape scale_mail_element(const double R, const double r, const double h, const unsigned int N,
