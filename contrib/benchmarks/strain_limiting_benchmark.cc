@@ -7,8 +7,10 @@
 // failed. Also the distance of each result from the candidate (the SOCP one is the true projection)
 // and the fitted growth of our projection's cost with the number of unknowns.
 //
-// Our solver runs twice on every candidate: with its default start (centred at the candidate) and
-// with CVXOPT's starting point, the column "ours, CVXOPT start" (the same solver otherwise).
+// Our solver runs three times on every candidate: with its default start (warm from the last step's
+// projection: its correction and multipliers), without the warm start (centred at the candidate,
+// the column "ours, no warm start") and from CVXOPT's starting point ("ours, CVXOPT start"); the
+// same solver otherwise.
 //
 // usage: strain_limiting_benchmark [steps] [baseline_steps] [max resolution] [--no-ipopt]
 // [--only-1|--only-10]
@@ -24,6 +26,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <tuple>
 #include <vector>
 
 using namespace nlmech;
@@ -259,11 +262,11 @@ int main(int argc, char **argv)
   std::printf(
       "Swinging sheet, SAP, h = 1/60 s; medians over %u steps (baselines: the last %u steps' candidates)\n",
       steps, baseline_steps);
-  std::printf("| limit | mesh | unknowns | limits | IE | ours | iterations | ours, CVXOPT start | iterations "
-              "| Ipopt | "
-              "Gauss-Seidel | ours/IE | CVXOPT start/ours | Ipopt/ours | GS/ours | distance Ipopt/ours | "
-              "distance GS/ours |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| limit | mesh | unknowns | limits | IE | ours | iterations | ours, no warm start | iterations | "
+      "ours, CVXOPT start | iterations | Ipopt | Gauss-Seidel | ours/IE | no warm start/ours | CVXOPT "
+      "start/ours | Ipopt/ours | GS/ours | distance Ipopt/ours | distance GS/ours |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const double limit : limit_values)
     {
       std::vector<std::pair<double, double>> growth; // (unknowns, our median)
@@ -283,8 +286,11 @@ int main(int argc, char **argv)
           ConicSettings        cvxopt_start;
           cvxopt_start.start_mu = -1;
           StrainLimitProjector classic(limits, sim.mass(), sim.fixed(), cvxopt_start);
-          Column               ie, ours, ours_classic, ip, gs;
-          std::vector<double>  iterations, iterations_classic, ratio_ip, ratio_gs;
+          ConicSettings        no_warm_start;
+          no_warm_start.warm_mu = 0;
+          StrainLimitProjector cold(limits, sim.mass(), sim.fixed(), no_warm_start);
+          Column               ie, ours, ours_cold, ours_classic, ip, gs;
+          std::vector<double>  iterations, iterations_cold, iterations_classic, ratio_ip, ratio_gs;
           for (unsigned int s = 0; s < steps; ++s)
             {
               ClothStepStatistics   st;
@@ -297,14 +303,16 @@ int main(int argc, char **argv)
               iterations.push_back(r.iterations);
               if (r.status != ConicStatus::solved)
                 ours.not_converged = true;
-              {
-                Eigen::VectorXd        xc;
-                const ProjectionResult rc = classic.project(x_hat, xc);
-                ours_classic.seconds.push_back(rc.seconds);
-                iterations_classic.push_back(rc.iterations);
-                if (rc.status != ConicStatus::solved)
-                  ours_classic.not_converged = true;
-              }
+              for (auto [variant, column, its] : {std::tuple(&classic, &ours_classic, &iterations_classic),
+                                                  std::tuple(&cold, &ours_cold, &iterations_cold)})
+                {
+                  Eigen::VectorXd        xc;
+                  const ProjectionResult rc = variant->project(x_hat, xc);
+                  column->seconds.push_back(rc.seconds);
+                  its->push_back(rc.iterations);
+                  if (rc.status != ConicStatus::solved)
+                    column->not_converged = true;
+                }
               // The baselines on the last steps' candidates, where the swing is under way and many
               // limits are active (the first candidates from rest barely violate any).
               if (baselines && s + baseline_steps >= steps && r.distance > 1e-12)
@@ -345,8 +353,10 @@ int main(int argc, char **argv)
             }
           const double ours_median = median(ours.seconds);
           growth.emplace_back(double(3 * mesh.vertices.size()), ours_median);
-          char r_ip[32] = "", r_gs[32] = "", d_ip[32] = "", d_gs[32] = "", r_classic[32] = "";
+          char r_ip[32] = "", r_gs[32] = "", d_ip[32] = "", d_gs[32] = "", r_classic[32] = "",
+               r_cold[32] = "";
           std::snprintf(r_classic, sizeof r_classic, "%.2f", median(ours_classic.seconds) / ours_median);
+          std::snprintf(r_cold, sizeof r_cold, "%.2f", median(ours_cold.seconds) / ours_median);
           if (!ip.seconds.empty())
             std::snprintf(r_ip, sizeof r_ip, "%.1f", median(ip.seconds) / ours_median);
           if (!gs.seconds.empty())
@@ -355,13 +365,14 @@ int main(int argc, char **argv)
             std::snprintf(d_ip, sizeof d_ip, "%.4f", median(ratio_ip));
           if (!ratio_gs.empty())
             std::snprintf(d_gs, sizeof d_gs, "%.4f", median(ratio_gs));
-          std::printf("| %.0f%% | %ux%u | %zu | %zu | %.3f s | %s | %.0f | %s | %.0f | %s | %s | %.2f | %s | "
-                      "%s | %s | %s | %s |\n",
-                      (limit - 1) * 100, n, n, 3 * mesh.vertices.size(), limits.size(), median(ie.seconds),
-                      ours.text().c_str(), median(iterations), ours_classic.text().c_str(),
-                      median(iterations_classic), baselines && ipopt ? ip.text().c_str() : "",
-                      baselines ? gs.text().c_str() : "", ours_median / median(ie.seconds), r_classic, r_ip,
-                      r_gs, d_ip, d_gs);
+          std::printf(
+              "| %.0f%% | %ux%u | %zu | %zu | %.3f s | %s | %.0f | %s | %.0f | %s | %.0f | %s | %s | %.2f | "
+              "%s | %s | %s | %s | %s | %s |\n",
+              (limit - 1) * 100, n, n, 3 * mesh.vertices.size(), limits.size(), median(ie.seconds),
+              ours.text().c_str(), median(iterations), ours_cold.text().c_str(), median(iterations_cold),
+              ours_classic.text().c_str(), median(iterations_classic),
+              baselines && ipopt ? ip.text().c_str() : "", baselines ? gs.text().c_str() : "",
+              ours_median / median(ie.seconds), r_cold, r_classic, r_ip, r_gs, d_ip, d_gs);
           std::fflush(stdout);
         }
       if (growth.size() >= 2)

@@ -238,6 +238,8 @@ namespace nlmech
     if (candidate_violation <= 0)
       {
         remember_active();
+        if (settings.warm_mu > 0)
+          previous_correction = x - x_hat, previous_z.assign(4 * limits.size(), 0.0);
         result.status    = ConicStatus::solved;
         result.violation = candidate_violation;
         result.seconds   = since(started);
@@ -259,11 +261,27 @@ namespace nlmech
           {
             std::vector<std::size_t> unknowns;
             const ConicQP            p = problem(x_hat, include, unknowns);
-            // From the candidate (first round) or the last round's projection, centred.
+            // From the candidate (first round) or the last round's projection, centred; warm from
+            // the last projection where there is one: its correction added to the candidate in
+            // the first round, its multipliers.
+            const bool      warm = settings.warm_mu > 0 && previous_z.size() == 4 * limits.size();
             Eigen::VectorXd x0(Eigen::Index(unknowns.size()));
             for (std::size_t k = 0; k < unknowns.size(); ++k)
-              x0[Eigen::Index(k)] = x[Eigen::Index(unknowns[k])];
-            const ConicResult r = cone_solver.solve(p, settings, settings.start_mu > 0 ? &x0 : nullptr);
+              x0[Eigen::Index(k)] =
+                  x[Eigen::Index(unknowns[k])] +
+                  (warm && round == 0 ? previous_correction[Eigen::Index(unknowns[k])] : 0.0);
+            Eigen::VectorXd z0;
+            if (warm)
+              {
+                z0.resize(p.h.size());
+                Eigen::Index row = 0;
+                for (std::size_t i = 0; i < limits.size(); ++i)
+                  if (include[i])
+                    for (int k = 0; k < 4; ++k)
+                      z0[row++] = previous_z[4 * i + std::size_t(k)];
+              }
+            const ConicResult r = cone_solver.solve(p, settings, settings.start_mu > 0 ? &x0 : nullptr,
+                                                    warm && settings.start_mu > 0 ? &z0 : nullptr);
             if (std::getenv("NLMECH_PROJECTION_DEBUG"))
               std::fprintf(stderr, "projection round %u: %zu limits, %zu unknowns, %u iterations, %.3f s\n",
                            round, p.cones.size(), unknowns.size(), r.iterations, r.seconds);
@@ -272,7 +290,19 @@ namespace nlmech
             result.status = r.status;
             result.cones  = p.cones.size();
             if (r.status != ConicStatus::solved && r.status != ConicStatus::almost_solved)
-              break;
+              {
+                previous_z.clear();
+                break;
+              }
+            if (settings.warm_mu > 0)
+              {
+                previous_z.assign(4 * limits.size(), 0.0);
+                Eigen::Index row = 0;
+                for (std::size_t i = 0; i < limits.size(); ++i)
+                  if (include[i])
+                    for (int k = 0; k < 4; ++k)
+                      previous_z[4 * i + std::size_t(k)] = r.z[row++];
+              }
             x = x_hat;
             for (const auto &f : fixed)
               x[Eigen::Index(f.first)] = f.second;
@@ -307,6 +337,8 @@ namespace nlmech
           std::fill(include.begin(), include.end(), 1);
       }
     remember_active();
+    if (!previous_z.empty())
+      previous_correction = x - x_hat;
     if (result.status == ConicStatus::solved || result.status == ConicStatus::almost_solved)
       {
         result.violation = max_violation(limits, x);

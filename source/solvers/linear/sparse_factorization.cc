@@ -1,3 +1,4 @@
+#include <nlmech/base/threads.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
 
 #include <deal.II/base/exceptions.h>
@@ -16,6 +17,7 @@ namespace nlmech
 
   SparseFactorization::SparseFactorization()
   {
+    serialise_openmp();
     cholesky.cholmod().print = 0; // "not positive definite" is expected and handled by the LU fallback
     // No iterative refinement inside UMFPACK: every solve is checked against its residual here, and
     // the Newton-type callers correct the rest (refinement tripled the cost of a solve).

@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parallel.h>
 
+#include <nlmech/base/threads.h>
 #include <nlmech/solvers/socp/conic_qp.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <type_traits>
 
 namespace nlmech
 {
@@ -30,28 +32,45 @@ namespace nlmech
         dealii::parallel::apply_to_subranges(std::size_t(0), m, f, 2048);
     }
 
+    // The cone kernels take the dimension d as an Eigen::Index or, where every cone has the same
+    // small dimension (4 in the strain-limiting problems), as a compile-time constant
+    // (std::integral_constant), so that their loops unroll.
+    using Four = std::integral_constant<Eigen::Index, 4>;
+
     /// u^T J u with J = diag(1, -1, ..., -1).
+    template <typename Dim>
+    inline double jnorm2(const double *u, const Dim d)
+    {
+      double y = 0;
+      for (Eigen::Index k = 1; k < d; ++k)
+        y += u[k] * u[k];
+      return u[0] * u[0] - y;
+    }
     double jnorm2(const Eigen::Ref<const Eigen::VectorXd> &u)
     {
-      return u[0] * u[0] - u.tail(u.size() - 1).squaredNorm();
+      return jnorm2(u.data(), u.size());
     }
     /// Solves lambda o d = r for d (lambda in the interior), into d.
-    void jordan_solve(const double *l, const double *r, const Eigen::Index size, double *d)
+    template <typename Dim>
+    inline void jordan_solve(const double *l, const double *r, const Dim size, double *d)
     {
       double lr = 0, ll = 0;
       for (Eigen::Index k = 1; k < size; ++k)
         lr += l[k] * r[k], ll += l[k] * l[k];
-      d[0] = (l[0] * r[0] - lr) / (l[0] * l[0] - ll);
+      d[0]               = (l[0] * r[0] - lr) / (l[0] * l[0] - ll);
+      const double inv_l = 1 / l[0];
       for (Eigen::Index k = 1; k < size; ++k)
-        d[k] = (r[k] - d[0] * l[k]) / l[0];
+        d[k] = (r[k] - d[0] * l[k]) * inv_l;
     }
     /// Largest alpha >= 0 with u + alpha du in the cone (u inside); infinity if unbounded.
-    double step_to_boundary(const Eigen::Ref<const Eigen::VectorXd> &u,
-                            const Eigen::Ref<const Eigen::VectorXd> &du)
+    template <typename Dim>
+    inline double step_to_boundary(const double *u, const double *du, const Dim d)
     {
-      const Eigen::Index k = u.size() - 1;
-      const double       a = jnorm2(du), b = u[0] * du[0] - u.tail(k).dot(du.tail(k)), c = jnorm2(u);
-      const double       disc = b * b - a * c;
+      double aa = 0, bb = 0, cc = 0;
+      for (Eigen::Index k = 1; k < d; ++k)
+        aa += du[k] * du[k], bb += u[k] * du[k], cc += u[k] * u[k];
+      const double a = du[0] * du[0] - aa, b = u[0] * du[0] - bb, c = u[0] * u[0] - cc;
+      const double disc = b * b - a * c;
       if ((a >= 0 && b >= 0) || (a > 0 && disc < 0))
         return std::numeric_limits<double>::infinity();
       // The smaller positive root of a t^2 + 2 b t + c, in the cancellation-free form.
@@ -66,8 +85,9 @@ namespace nlmech
     /// Applies the Nesterov-Todd scaling of one cone, W = eta Wb with the hyperbolic Householder
     /// matrix Wb = [[w_0, w_1^T], [w_1, I + w_1 w_1^T / (1 + w_0)]] (w^T J w = 1), or its inverse
     /// W^-1 = J Wb J / eta, to u (length d) into out (may be u itself). No temporaries.
-    void apply_scaling(const double *w, const double eta, const Eigen::Index d, const double *u, double *out,
-                       const bool inverse)
+    template <typename Dim>
+    [[gnu::always_inline]] inline void apply_scaling(const double *w, const double eta, const Dim d,
+                                                     const double *u, double *out, const bool inverse)
     {
       double dot = 0;
       for (Eigen::Index k = 1; k < d; ++k)
@@ -82,10 +102,10 @@ namespace nlmech
         }
       else
         {
-          const double c = -u0 + dot / (1 + w[0]);
-          out[0]         = (w[0] * u0 - dot) / eta;
+          const double c = -u0 + dot / (1 + w[0]), e = 1 / eta;
+          out[0] = (w[0] * u0 - dot) * e;
           for (Eigen::Index k = 1; k < d; ++k)
-            out[k] = (u[k] + c * w[k]) / eta;
+            out[k] = (u[k] + c * w[k]) * e;
         }
     }
   } // namespace
@@ -104,6 +124,7 @@ namespace nlmech
 
   ConicQPSolver::ConicQPSolver()
   {
+    serialise_openmp();
     cholesky.cholmod().print = 0;
     if (const char *o = std::getenv("NLMECH_SOCP_ORDERING"))
       {
@@ -144,7 +165,7 @@ namespace nlmech
     for (const auto &gc : group_columns)
       for (std::size_t a = 0; a < gc.size(); ++a)
         for (std::size_t b = 0; b <= a; ++b)
-          t.emplace_back(gc[a], gc[b], 0.0);
+          t.emplace_back(gc[b], gc[a], 0.0); // upper triangle: CHOLMOD's cheapest input
     for (Eigen::Index j = 0; j < n; ++j)
       t.emplace_back(j, j, 0.0);
     normal.resize(n, n);
@@ -161,7 +182,7 @@ namespace nlmech
         const auto &gc = group_columns[g];
         for (std::size_t a = 0; a < gc.size(); ++a)
           for (std::size_t b = 0; b <= a; ++b)
-            group_slots[g].push_back(slot(gc[a], gc[b]));
+            group_slots[g].push_back(slot(gc[b], gc[a]));
       }
     group_value_start.assign(group_columns.size() + 1, 0);
     for (std::size_t g = 0; g < group_columns.size(); ++g)
@@ -189,8 +210,12 @@ namespace nlmech
       normal.valuePtr()[diagonal_slot[j]] += problem.P_diagonal[Eigen::Index(j)] + regularisation;
     // Per group (in parallel): sum over its cones of B^T B with B = W_i^-1 G_i (W_i symmetric,
     // so this is G_i^T W_i^-2 G_i), B = G_i for the identity scaling of the starting point; then
-    // the blocks go into the matrix (serially: groups share entries).
-    const std::size_t n_groups = group_columns.size();
+    // the blocks go into the matrix (serially: groups share entries). With W^-1 = J Wb J / eta,
+    // B in closed form from v = w_1^T G_1 (G_i = [g_0; G_1] by rows):
+    //   B_0 = (w_0 g_0 - v) / eta,   B_1 = (G_1 + w_1 (v / (1 + w_0) - g_0)^T) / eta.
+    const std::size_t  n_groups = group_columns.size();
+    const unsigned int max_d =
+        problem.cones.empty() ? 0u : *std::max_element(problem.cones.begin(), problem.cones.end());
     for_chunks(n_groups, [&](const std::size_t begin, const std::size_t end) {
       std::vector<double> B;
       for (std::size_t g = begin; g < end; ++g)
@@ -198,27 +223,69 @@ namespace nlmech
           const std::size_t c     = group_columns[g].size();
           double           *local = group_values.data() + group_value_start[g];
           std::fill(local, local + c * (c + 1) / 2, 0.0);
+          B.resize(std::max(B.size(), std::size_t(max_d) * c));
           for (std::size_t i = group_begin[g]; i < group_begin[g + 1]; ++i)
             {
               const Eigen::Index d  = problem.cones[i];
               const double      *Gi = cone_G.data() + cone_G_start[i]; // d x c, column-major
-              B.resize(std::size_t(d) * c);
+              if (w.size() > 0 && cone_sparse[i] && d <= 8)
+                {
+                  // G_i^T W^-2 G_i entry by entry: (p, q) = g_p g_q (W^-2)_{r_p r_q}, with
+                  // W^-2 = (2 J w (J w)^T - J) / eta^2 (g = 0 for an empty column).
+                  const double *wi = w.data() + offset[i];
+                  const double  e2 = 1 / (eta[i] * eta[i]);
+                  double        jw[8], W2[64];
+                  for (Eigen::Index a = 0; a < d; ++a)
+                    jw[a] = a == 0 ? wi[0] : -wi[a];
+                  for (Eigen::Index a = 0; a < d; ++a)
+                    for (Eigen::Index b = 0; b <= a; ++b)
+                      W2[a * d + b] = W2[b * d + a] = e2 * (2 * jw[a] * jw[b] - (a != b   ? 0.0
+                                                                                 : a == 0 ? 1.0
+                                                                                          : -1.0));
+                  const int    *rp = cone_column_row.data() + cone_column_start[i];
+                  const double *gv = cone_column_value.data() + cone_column_start[i];
+                  std::size_t   k  = 0;
+                  for (std::size_t p = 0; p < c; ++p)
+                    {
+                      const double  gp  = gv[p];
+                      const double *row = W2 + rp[p] * d;
+                      for (std::size_t q = 0; q <= p; ++q, ++k)
+                        local[k] += gp * gv[q] * row[rp[q]];
+                    }
+                  continue;
+                }
               if (w.size() == 0)
                 std::copy(Gi, Gi + d * Eigen::Index(c), B.begin());
               else
-                for (std::size_t p = 0; p < c; ++p)
-                  apply_scaling(w.data() + offset[i], eta[i], d, Gi + Eigen::Index(p) * d,
-                                B.data() + p * std::size_t(d), true);
+                {
+                  const double *wi = w.data() + offset[i];
+                  const double  e = 1 / eta[i], w0 = wi[0], h = 1 / (1 + w0);
+                  for (std::size_t p = 0; p < c; ++p)
+                    {
+                      const double *gp = Gi + Eigen::Index(p) * d;
+                      double       *bp = B.data() + p * std::size_t(d);
+                      double        vp = 0;
+                      for (Eigen::Index r = 1; r < d; ++r)
+                        vp += wi[r] * gp[r];
+                      bp[0]          = e * (w0 * gp[0] - vp);
+                      const double a = vp * h - gp[0];
+                      for (Eigen::Index r = 1; r < d; ++r)
+                        bp[r] = e * (gp[r] + wi[r] * a);
+                    }
+                }
               std::size_t k = 0;
               for (std::size_t p = 0; p < c; ++p)
-                for (std::size_t q = 0; q <= p; ++q, ++k)
-                  {
-                    const double *bp = B.data() + p * std::size_t(d), *bq = B.data() + q * std::size_t(d);
-                    double        v = 0;
-                    for (Eigen::Index r = 0; r < d; ++r)
-                      v += bp[r] * bq[r];
-                    local[k] += v;
-                  }
+                {
+                  const double *bp = B.data() + p * std::size_t(d);
+                  for (std::size_t q = 0; q <= p; ++q, ++k)
+                    {
+                      const double *bq = B.data() + q * std::size_t(d);
+                      double        s  = 0;
+                      for (Eigen::Index r = 0; r < d; ++r)
+                        s += bp[r] * bq[r];
+                      local[k] += s;
+                    }
+                }
             }
         }
     });
@@ -233,7 +300,7 @@ namespace nlmech
   }
 
   ConicResult ConicQPSolver::solve(const ConicQP &problem, const ConicSettings &settings,
-                                   const Eigen::VectorXd *x_start)
+                                   const Eigen::VectorXd *x_start, const Eigen::VectorXd *z_start)
   {
     const auto         started = Clock::now();
     const Eigen::Index n = problem.G.cols(), rows = problem.G.rows();
@@ -279,10 +346,34 @@ namespace nlmech
               Gi[(std::lower_bound(cols.begin(), cols.end(), int(it.col())) - cols.begin()) * d + r] =
                   it.value();
         }
+      // Where every column of a cone's G_i has at most one nonzero (the strain limits: row 0 is
+      // zero, each unknown enters one component), its row per column, for the sparse assembly.
+      cone_sparse.assign(m, 1);
+      cone_column_start.assign(m + 1, 0);
+      for (std::size_t i = 0; i < m; ++i)
+        cone_column_start[i + 1] = cone_column_start[i] + group_columns[cone_group[i]].size();
+      cone_column_row.assign(cone_column_start[m], 0);
+      cone_column_value.assign(cone_column_start[m], 0.0);
+      for (std::size_t i = 0; i < m; ++i)
+        {
+          const auto    d  = Eigen::Index(problem.cones[i]);
+          const auto    c  = group_columns[cone_group[i]].size();
+          const double *Gi = cone_G.data() + cone_G_start[i];
+          for (std::size_t p = 0; p < c; ++p)
+            {
+              int rows_with_entries = 0;
+              for (Eigen::Index r = 0; r < d; ++r)
+                if (Gi[Eigen::Index(p) * d + r] != 0)
+                  {
+                    ++rows_with_entries;
+                    cone_column_row[cone_column_start[i] + p]   = int(r);
+                    cone_column_value[cone_column_start[i] + p] = Gi[Eigen::Index(p) * d + r];
+                  }
+              if (rows_with_entries > 1)
+                cone_sparse[i] = 0;
+            }
+        }
     }
-    Eigen::Index max_dimension = 0;
-    for (const unsigned int d : problem.cones)
-      max_dimension = std::max<Eigen::Index>(max_dimension, d);
     auto block  = [&](Eigen::VectorXd &v, std::size_t i) { return v.segment(offset[i], problem.cones[i]); };
     auto cblock = [&](const Eigen::VectorXd &v, std::size_t i) {
       return v.segment(offset[i], problem.cones[i]);
@@ -302,7 +393,7 @@ namespace nlmech
     auto   normal_solve = [&](const Eigen::VectorXd &rhs) {
       const auto            t0 = Clock::now();
       Eigen::VectorXd       x  = cholesky.solve(rhs);
-      const Eigen::VectorXd r  = rhs - normal.selfadjointView<Eigen::Lower>() * x;
+      const Eigen::VectorXd r  = rhs - normal.selfadjointView<Eigen::Upper>() * x;
       if (r.norm() > 1e-12 * rhs.norm())
         x += cholesky.solve(r);
       solve_seconds += since(t0);
@@ -338,17 +429,33 @@ namespace nlmech
       {
         // Centred start near a given point: s = h - G x lifted into every cone by at least a
         // margin, z = mu s^-1 (so that s o z = mu e exactly in every cone).
+        const bool warm    = z_start && z_start->size() == rows && z_start->allFinite();
+        double     z_floor = 0;
+        if (warm)
+          for (std::size_t i = 0; i < m; ++i)
+            z_floor = std::max(z_floor, std::abs((*z_start)[offset[i]]));
+        z_floor *= settings.warm_margin;
+        const double s_margin = warm ? settings.warm_s_margin : settings.start_margin;
         for (std::size_t i = 0; i < m; ++i)
           {
             auto         si     = block(s, i);
             const double norm_y = si.tail(si.size() - 1).norm();
-            const double margin = settings.start_margin * std::max(std::abs(si[0]), norm_y);
+            const double margin = s_margin * std::max(std::abs(si[0]), norm_y);
             if (si[0] - norm_y < margin)
               si[0] = norm_y + std::max(margin, 1e-12);
             auto         zi        = block(z, i);
             const double j         = jnorm2(si);
-            zi[0]                  = settings.start_mu * si[0] / j;
-            zi.tail(zi.size() - 1) = -settings.start_mu / j * si.tail(si.size() - 1);
+            const double mu        = warm ? settings.warm_mu : settings.start_mu;
+            zi[0]                  = mu * si[0] / j;
+            zi.tail(zi.size() - 1) = -mu / j * si.tail(si.size() - 1);
+            if (warm)
+              {
+                Eigen::VectorXd zw = z_start->segment(offset[i], problem.cones[i]);
+                const double    ny = zw.tail(zw.size() - 1).norm();
+                if (zw[0] - ny < z_floor)
+                  zw[0] = ny + z_floor;
+                zi += zw;
+              }
           }
       }
     else
@@ -359,6 +466,21 @@ namespace nlmech
     ConicStatus     status = ConicStatus::iteration_limit;
     ConicResult     last;
     last.primal_residual = last.dual_residual = last.gap = std::numeric_limits<double>::infinity();
+    // Per-cone loops (in parallel), with the dimension fixed at compile time when all are 4.
+    const bool all_four  = std::all_of(problem.cones.begin(), problem.cones.end(),
+                                       [](const unsigned int d) { return d == Four::value; });
+    auto       cone_loop = [&](const auto &body) {
+      for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
+        if (all_four)
+          for (std::size_t i = begin; i < end; ++i)
+            body(i, Four());
+        else
+          for (std::size_t i = begin; i < end; ++i)
+            body(i, Eigen::Index(problem.cones[i]));
+      });
+    };
+    Eigen::VectorXd     t, Gdx, dx, ds, dz, corrector; // work vectors of an iteration
+    std::vector<double> cone_steps(m);
     for (result.iterations = 0;; ++result.iterations)
       {
         const Eigen::VectorXd Gx = problem.G * x, Gtz = problem.G.transpose() * z;
@@ -403,23 +525,20 @@ namespace nlmech
           break;
 
         // Nesterov-Todd scaling per cone: W z = W^-1 s = lambda.
-        for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
-          for (std::size_t i = begin; i < end; ++i)
-            {
-              const Eigen::Index d  = problem.cones[i];
-              const double      *si = s.data() + offset[i], *zi = z.data() + offset[i];
-              double            *wi = w.data() + offset[i];
-              const double       ss = std::sqrt(jnorm2(cblock(s, i))), zz = std::sqrt(jnorm2(cblock(z, i)));
-              double             sz = si[0] * zi[0] / (ss * zz);
-              for (Eigen::Index k = 1; k < d; ++k)
-                sz += si[k] * zi[k] / (ss * zz);
-              const double gamma = std::sqrt(0.5 * (1 + sz));
-              wi[0]              = (si[0] / ss + zi[0] / zz) / (2 * gamma);
-              for (Eigen::Index k = 1; k < d; ++k)
-                wi[k] = (si[k] / ss - zi[k] / zz) / (2 * gamma);
-              eta[i] = std::sqrt(ss / zz);
-              apply_scaling(wi, eta[i], d, zi, lambda.data() + offset[i], false);
-            }
+        cone_loop([&](const std::size_t i, const auto d) {
+          const double *si = s.data() + offset[i], *zi = z.data() + offset[i];
+          double       *wi = w.data() + offset[i];
+          const double  ss = std::sqrt(jnorm2(si, d)), zz = std::sqrt(jnorm2(zi, d));
+          const double  is = 1 / ss, iz = 1 / zz;
+          double        sz = si[0] * zi[0];
+          for (Eigen::Index k = 1; k < d; ++k)
+            sz += si[k] * zi[k];
+          const double gamma = std::sqrt(0.5 * (1 + sz * is * iz)), ig = 1 / (2 * gamma);
+          wi[0] = (si[0] * is + zi[0] * iz) * ig;
+          for (Eigen::Index k = 1; k < d; ++k)
+            wi[k] = (si[k] * is - zi[k] * iz) * ig;
+          eta[i] = std::sqrt(ss * iz);
+          apply_scaling(wi, eta[i], d, zi, lambda.data() + offset[i], false);
         });
         {
           const auto t0 = Clock::now();
@@ -432,76 +551,72 @@ namespace nlmech
             break;
           }
         // Newton step for a right-hand side d of the linearised centrality lambda o (W^-1 ds + W dz) = ...
-        auto W = [&](std::size_t i, const double *u, double *out, bool inverse) {
-          apply_scaling(w.data() + offset[i], eta[i], problem.cones[i], u, out, inverse);
-        };
-        auto newton = [&](const Eigen::VectorXd &d, Eigen::VectorXd &dx, Eigen::VectorXd &ds,
+        auto newton = [&](const Eigen::VectorXd &rhs, Eigen::VectorXd &dx, Eigen::VectorXd &ds,
                           Eigen::VectorXd &dz) {
           // t = W^-1 (W^-1 r_z + d); dx from the normal equations; dz = W^-2 G dx + t;
           // ds = -r_z - G dx (equal to W (d - W dz), exact in the linear equation).
-          Eigen::VectorXd t(rows);
-          for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
-              {
-                double *ti = t.data() + offset[i];
-                W(i, rz.data() + offset[i], ti, true);
-                for (Eigen::Index k = 0; k < problem.cones[i]; ++k)
-                  ti[k] += d[offset[i] + k];
-                W(i, ti, ti, true);
-              }
+          t.resize(rows);
+          cone_loop([&](const std::size_t i, const auto d) {
+            double       *ti = t.data() + offset[i];
+            const double *wi = w.data() + offset[i];
+            apply_scaling(wi, eta[i], d, rz.data() + offset[i], ti, true);
+            for (Eigen::Index k = 0; k < d; ++k)
+              ti[k] += rhs[offset[i] + k];
+            apply_scaling(wi, eta[i], d, ti, ti, true);
           });
-          dx                        = normal_solve(-rx - problem.G.transpose() * t);
-          const Eigen::VectorXd Gdx = problem.G * dx;
+          dx  = normal_solve(-rx - problem.G.transpose() * t);
+          Gdx = problem.G * dx;
           dz.resize(rows);
           ds = -rz - Gdx;
-          for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
-              {
-                double *dzi = dz.data() + offset[i];
-                W(i, Gdx.data() + offset[i], dzi, true);
-                W(i, dzi, dzi, true);
-                for (Eigen::Index k = 0; k < problem.cones[i]; ++k)
-                  dzi[k] += t[offset[i] + k];
-              }
+          cone_loop([&](const std::size_t i, const auto d) {
+            double       *dzi = dz.data() + offset[i];
+            const double *wi  = w.data() + offset[i];
+            apply_scaling(wi, eta[i], d, Gdx.data() + offset[i], dzi, true);
+            apply_scaling(wi, eta[i], d, dzi, dzi, true);
+            for (Eigen::Index k = 0; k < d; ++k)
+              dzi[k] += t[offset[i] + k];
           });
         };
-        std::vector<double> cone_steps(m);
-        auto                max_step = [&](const Eigen::VectorXd &ds, const Eigen::VectorXd &dz) {
-          for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
-              cone_steps[i] = std::min(step_to_boundary(cblock(s, i), cblock(ds, i)),
-                                                      step_to_boundary(cblock(z, i), cblock(dz, i)));
+        auto max_step = [&](const Eigen::VectorXd &ds, const Eigen::VectorXd &dz) {
+          cone_loop([&](const std::size_t i, const auto d) {
+            const Eigen::Index o = offset[i];
+            cone_steps[i]        = std::min(step_to_boundary(s.data() + o, ds.data() + o, d),
+                                            step_to_boundary(z.data() + o, dz.data() + o, d));
           });
           return *std::min_element(cone_steps.begin(), cone_steps.end());
         };
         // Predictor (affine scaling): lambda o d = -lambda o lambda, i.e. d = -lambda.
-        Eigen::VectorXd dx, ds, dz;
         newton(-lambda, dx, ds, dz);
         const double alpha_a = std::min(1.0, max_step(ds, dz));
         const double mu      = gap / double(m);
         const double mu_a    = (s + alpha_a * ds).dot(z + alpha_a * dz) / double(m);
         const double sigma   = std::clamp(std::pow(std::max(mu_a, 0.0) / mu, 3), 0.0, 1.0);
         // Corrector: lambda o d = sigma mu e - lambda o lambda - (W^-1 ds_a) o (W dz_a).
-        Eigen::VectorXd d(rows);
-        for_chunks(m, [&](const std::size_t begin, const std::size_t end) {
-          Eigen::VectorXd u(max_dimension), v(max_dimension), r(max_dimension);
-          for (std::size_t i = begin; i < end; ++i)
+        corrector.resize(rows);
+        cone_loop([&](const std::size_t i, const auto dim) {
+          constexpr bool                   fixed = std::is_same_v<std::decay_t<decltype(dim)>, Four>;
+          thread_local std::vector<double> scratch;
+          double                           stack[3 * Four::value];
+          double                          *u = stack;
+          if constexpr (!fixed)
             {
-              const Eigen::Index dim = problem.cones[i];
-              const double      *li  = lambda.data() + offset[i];
-              W(i, ds.data() + offset[i], u.data(), true);
-              W(i, dz.data() + offset[i], v.data(), false);
-              // r = sigma mu e - lambda o lambda - u o v
-              double l2 = 0, uv = 0;
-              for (Eigen::Index k = 0; k < dim; ++k)
-                l2 += li[k] * li[k], uv += u[k] * v[k];
-              r[0] = sigma * mu - l2 - uv;
-              for (Eigen::Index k = 1; k < dim; ++k)
-                r[k] = -2 * li[0] * li[k] - (u[0] * v[k] + v[0] * u[k]);
-              jordan_solve(li, r.data(), dim, d.data() + offset[i]);
+              scratch.resize(3 * std::size_t(dim));
+              u = scratch.data();
             }
+          double       *v = u + dim, *r = v + dim;
+          const double *li = lambda.data() + offset[i], *wi = w.data() + offset[i];
+          apply_scaling(wi, eta[i], dim, ds.data() + offset[i], u, true);
+          apply_scaling(wi, eta[i], dim, dz.data() + offset[i], v, false);
+          // r = sigma mu e - lambda o lambda - u o v
+          double l2 = 0, uv = 0;
+          for (Eigen::Index k = 0; k < dim; ++k)
+            l2 += li[k] * li[k], uv += u[k] * v[k];
+          r[0] = sigma * mu - l2 - uv;
+          for (Eigen::Index k = 1; k < dim; ++k)
+            r[k] = -2 * li[0] * li[k] - (u[0] * v[k] + v[0] * u[k]);
+          jordan_solve(li, r, dim, corrector.data() + offset[i]);
         });
-        newton(d, dx, ds, dz);
+        newton(corrector, dx, ds, dz);
         const double alpha = std::min(1.0, settings.step_fraction * max_step(ds, dz));
         x += alpha * dx, s += alpha * ds, z += alpha * dz;
         if (std::getenv("NLMECH_SOCP_DEBUG"))

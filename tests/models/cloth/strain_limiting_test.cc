@@ -124,6 +124,47 @@ TEST(StrainLimits, ProjectionIsFeasibleAndNoFartherThanGaussSeidel)
     }
 }
 
+TEST(StrainLimits, WarmStartsFromTheLastProjectionGiveTheSamePoints)
+{
+  // A sequence of nearby candidates, as in time stepping: the projector warm-started from its
+  // last projection (the default) against a cold one (warm_mu = 0), both screened.
+  const auto    mesh   = make_sheet_mesh(0.5, 10);
+  const auto    limits = make_strain_limits(mesh, warp, weft, 4, [](double) { return 1.01; });
+  ShellMaterial material;
+  material.thickness = 5e-4, material.density = 200, material.youngs_modulus = 1800,
+  material.poissons_ratio             = 0.41;
+  const ShellModel              shell = make_shell_model(mesh, material);
+  std::map<std::size_t, double> fixed;
+  for (const unsigned int p : {0u, 10u})
+    for (unsigned int d = 0; d < 3; ++d)
+      fixed[3 * p + d] = shell.rest_positions[3 * p + d];
+  ConicSettings cold_settings;
+  cold_settings.warm_mu = 0;
+  StrainLimitProjector warm(limits, shell.model.lumped_mass(), fixed);
+  StrainLimitProjector cold(limits, shell.model.lumped_mass(), fixed, cold_settings);
+  unsigned int         warm_iterations = 0, cold_iterations = 0;
+  for (unsigned int k = 0; k < 6; ++k)
+    {
+      Eigen::VectorXd x_hat = shell.rest_positions;
+      const double    a     = 0.02 + 0.01 * k;
+      for (Eigen::Index v = 0; v < x_hat.size() / 3; ++v)
+        {
+          const double X = shell.rest_positions[3 * v], Z = shell.rest_positions[3 * v + 2];
+          x_hat[3 * v] *= 1 + a;
+          x_hat[3 * v + 1] -= 4 * a * Z * Z + a * std::sin(6 * X + k);
+        }
+      Eigen::VectorXd x_warm, x_cold;
+      const auto      rw = warm.project(x_hat, x_warm);
+      const auto      rc = cold.project(x_hat, x_cold);
+      ASSERT_EQ(rw.status, ConicStatus::solved) << "step " << k;
+      ASSERT_EQ(rc.status, ConicStatus::solved) << "step " << k;
+      EXPECT_LT(rw.violation, 1e-8);
+      EXPECT_LT((x_warm - x_cold).norm(), 1e-6 * x_cold.norm()) << "step " << k;
+      warm_iterations += rw.iterations, cold_iterations += rc.iterations;
+    }
+  std::printf("six nearby candidates: %u iterations warm, %u cold\n", warm_iterations, cold_iterations);
+}
+
 TEST(StrainLimits, AFeasibleCandidateIsItsOwnProjection)
 {
   const auto                    mesh   = make_sheet_mesh(0.5, 6);

@@ -97,7 +97,11 @@ namespace nlmech
     std::vector<std::size_t>      free_dofs;
     double                        mass_scale = 1, screening = 0.98;
     std::vector<char>             previously_active;
-    ConicQPSolver                 cone_solver;
+    // Warm start (settings.warm_mu > 0): the last projection's correction x - x_hat and its cone
+    // multipliers, 4 per limit (zero for limits left out of its cone problem).
+    Eigen::VectorXd     previous_correction;
+    std::vector<double> previous_z;
+    ConicQPSolver       cone_solver;
   };
 
   struct GaussSeidelResult
