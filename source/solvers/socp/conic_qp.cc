@@ -466,6 +466,33 @@ namespace nlmech
     ConicStatus     status = ConicStatus::iteration_limit;
     ConicResult     last;
     last.primal_residual = last.dual_residual = last.gap = std::numeric_limits<double>::infinity();
+    // G v and G^T v in parallel (over the rows of a row-major copy, over the columns of G).
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> G_rows(problem.G);
+    auto G_times = [&](const Eigen::VectorXd &v, Eigen::VectorXd &out) {
+      out.resize(rows);
+      for_chunks(std::size_t(rows), [&](const std::size_t begin, const std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+          {
+            double sum = 0;
+            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(G_rows, Eigen::Index(r)); it;
+                 ++it)
+              sum += it.value() * v[it.index()];
+            out[Eigen::Index(r)] = sum;
+          }
+      });
+    };
+    auto Gt_times = [&](const Eigen::VectorXd &v, Eigen::VectorXd &out) {
+      out.resize(n);
+      for_chunks(std::size_t(n), [&](const std::size_t begin, const std::size_t end) {
+        for (std::size_t c = begin; c < end; ++c)
+          {
+            double sum = 0;
+            for (Eigen::SparseMatrix<double>::InnerIterator it(problem.G, Eigen::Index(c)); it; ++it)
+              sum += it.value() * v[it.index()];
+            out[Eigen::Index(c)] = sum;
+          }
+      });
+    };
     // Per-cone loops (in parallel), with the dimension fixed at compile time when all are 4.
     const bool all_four  = std::all_of(problem.cones.begin(), problem.cones.end(),
                                        [](const unsigned int d) { return d == Four::value; });
@@ -479,11 +506,12 @@ namespace nlmech
             body(i, Eigen::Index(problem.cones[i]));
       });
     };
-    Eigen::VectorXd     t, Gdx, dx, ds, dz, corrector; // work vectors of an iteration
+    Eigen::VectorXd     t, Gdx, Gtt, dx, ds, dz, corrector, Gx, Gtz; // work vectors of an iteration
     std::vector<double> cone_steps(m);
     for (result.iterations = 0;; ++result.iterations)
       {
-        const Eigen::VectorXd Gx = problem.G * x, Gtz = problem.G.transpose() * z;
+        G_times(x, Gx);
+        Gt_times(z, Gtz);
         const Eigen::VectorXd rx        = problem.P_diagonal.cwiseProduct(x) + problem.q + Gtz;
         const Eigen::VectorXd rz        = s + Gx - problem.h;
         const double          gap       = s.dot(z);
@@ -564,8 +592,9 @@ namespace nlmech
               ti[k] += rhs[offset[i] + k];
             apply_scaling(wi, eta[i], d, ti, ti, true);
           });
-          dx  = normal_solve(-rx - problem.G.transpose() * t);
-          Gdx = problem.G * dx;
+          Gt_times(t, Gtt);
+          dx = normal_solve(-rx - Gtt);
+          G_times(dx, Gdx);
           dz.resize(rows);
           ds = -rz - Gdx;
           cone_loop([&](const std::size_t i, const auto d) {
