@@ -26,12 +26,22 @@ namespace nlmech::dim
     {
       const auto     start = std::chrono::steady_clock::now();
       NewtonSettings newton;
-      newton.max_iterations = settings.max_iterations;
-      newton.step_tolerance = settings.step_tolerance;
-      // Forces balanced to 1e-6 of the first gradient also end the solve: slack elements can keep
-      // drifting along near-null motions with steps above the step tolerance long after the limit
-      // (set by the force balance) has converged.
-      newton.relative_tolerance        = 1e-8;
+      newton.max_iterations     = settings.max_iterations;
+      newton.step_tolerance     = settings.step_tolerance;
+      newton.relative_tolerance = 1e-8;
+      // Or: the reached strains (curvatures) have settled and the forces nearly balance (see
+      // NativeSolveSettings::parameter_tolerance).
+      std::vector<Eigen::Vector2d> history;
+      const Eigen::Index           i0 = assembly.parameter_index(0), i1 = assembly.parameter_index(1);
+      newton.converged = [&](const Eigen::VectorXd &x, const double g, const double g0) {
+        history.emplace_back(x[i0], x[i1]);
+        if (history.size() < 11 || g > settings.force_tolerance * g0)
+          return false;
+        double change = 0;
+        for (std::size_t k = history.size() - 11; k < history.size(); ++k)
+          change = std::max(change, (history[k] - history.back()).lpNorm<Eigen::Infinity>());
+        return change <= settings.parameter_tolerance;
+      };
       newton.grow_shift_on_short_steps = true; // sliding contacts otherwise crawl at collision-bounded steps
       newton.shift_metric              = assembly.motion_metric(q);
       TestOutcome outcome;

@@ -547,7 +547,7 @@ namespace nlmech::dim
     std::array<Point<S>, 4> x;
     for (unsigned k = 0; k < 4; ++k)
       x[k] = assembly->world_point(pair.owner[k] == 0 ? &v[0] : &v[6], &v[12],
-                                   pair.owner[k] == 0 ? std::array<int, 2>{0, 0} : pair.image,
+                                   pair.owner[k] == 0 ? std::array<int, 2>{{0, 0}} : pair.image,
                                    pair.body_points[k]);
     const S d = sqrt(squared_distance(pair.type, x)) - pair.radius_sum;
     return barrier(d, contact.dhat, contact.kappa);

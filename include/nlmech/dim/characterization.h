@@ -29,8 +29,14 @@ namespace nlmech::dim
     double          target_weight  = 1.0;   // w of the driven component [N mm]
     double          hold_weight    = 100.0; // w of a component held at a level [N mm]
     unsigned int    max_iterations = 400;
-    double          step_tolerance = 1e-7;    // mm and rad (projected Newton converges linearly at the end)
-    double          gravity        = 9.81e-3; // N/kg, so that m g z is in N mm with z in mm
+    double          step_tolerance = 1e-7; // mm and rad (projected Newton converges linearly at the end)
+    /// A test also ends when the strains (curvatures) reached changed by at most this over the last
+    /// 10 accepted steps while the forces are balanced to `force_tolerance` of the first gradient:
+    /// slack elements can keep drifting along near-null motions (steps above step_tolerance, the
+    /// gradient stalled at round-off) long after the limit itself has converged.
+    double parameter_tolerance = 1e-7;
+    double force_tolerance     = 1e-4;
+    double gravity             = 9.81e-3; // N/kg, so that m g z is in N mm with z in mm
   };
 
   /// The outcome of one macroscopic test: the principal values reached, in the principal frame.

@@ -98,7 +98,7 @@ namespace nlmech::dim
 
   /// The world centreline polyline of one element (or its image) at a state.
   std::vector<Eigen::Vector3d> centreline(const RigidAssembly &assembly, const Eigen::VectorXd &q,
-                                          unsigned body, std::array<int, 2> image = {0, 0});
+                                          unsigned body, std::array<int, 2> image = {{0, 0}});
 
   /// Element pairs (with image offsets) whose centrelines are linked, and the count per element.
   struct Links

@@ -48,7 +48,7 @@ namespace nlmech::dim
   struct ContactPair
   {
     unsigned int                   body_a = 0, body_b = 0;
-    std::array<int, 2>             image{0, 0}; // lattice offset of body b
+    std::array<int, 2>             image{{0, 0}}; // lattice offset of body b
     DistanceType                   type = DistanceType::point_point;
     std::array<Eigen::Vector3d, 4> body_points;
     std::array<unsigned char, 4>   owner{};
@@ -84,9 +84,9 @@ namespace nlmech::dim
 
     /// Centre of body i (image offset included) and a body-frame point in the world.
     Eigen::Vector3d centre(const Eigen::VectorXd &q, unsigned int body,
-                           std::array<int, 2> image = {0, 0}) const;
+                           std::array<int, 2> image = {{0, 0}}) const;
     Eigen::Vector3d world_point(const Eigen::VectorXd &q, unsigned int body, const Eigen::Vector3d &p,
-                                std::array<int, 2> image = {0, 0}) const;
+                                std::array<int, 2> image = {{0, 0}}) const;
     /// The current lattice vectors (periodic placement).
     Eigen::Vector2d lattice_vector(const Eigen::VectorXd &q, unsigned int k) const;
     /// U(eps) = I + sum eps_j B_j (periodic placement).
@@ -100,7 +100,7 @@ namespace nlmech::dim
     {
       double             gap    = std::numeric_limits<double>::infinity();
       unsigned int       body_a = 0, body_b = 0;
-      std::array<int, 2> image{0, 0};
+      std::array<int, 2> image{{0, 0}};
     };
     Gap smallest_gap(const Eigen::VectorXd &q, double reach = std::numeric_limits<double>::infinity()) const;
 
@@ -142,7 +142,7 @@ namespace nlmech::dim
                      double cutoff = std::numeric_limits<double>::infinity()) const;
     /// World positions of a body's (or its image's) points.
     std::vector<Eigen::Vector3d> world_points(const Eigen::VectorXd &q, unsigned body,
-                                              std::array<int, 2> image = {0, 0}) const;
+                                              std::array<int, 2> image = {{0, 0}}) const;
 
   private:
     std::vector<ElementShape>    shapes;

@@ -1,5 +1,8 @@
 #include <nlmech/solvers/newton/newton_solver.h>
 
+#include <algorithm>
+#include <vector>
+
 #include <deal.II/base/exceptions.h>
 
 #include <Eigen/CholmodSupport>
@@ -43,8 +46,9 @@ namespace nlmech
     const double                                             g0     = g.norm();
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
     long                                                     analysed_nonzeros = -1;
-    double                                                   last_shift        = 0;
-    unsigned int                                             short_steps       = 0;
+    std::vector<int>                                         analysed_outer, analysed_inner;
+    double                                                   last_shift  = 0;
+    unsigned int                                             short_steps = 0;
     cholesky.cholmod().print = 0; // silent: "not positive definite" is expected and handled by the shift
 
     for (result.iterations = 0;; ++result.iterations)
@@ -88,11 +92,18 @@ namespace nlmech
             for (std::size_t k = 0; k < m; ++k)
               A.coeffRef(k, k) +=
                   shift * (settings.shift_metric.size() ? settings.shift_metric[free_dofs[k]] : 1.0);
-          // The symbolic analysis is reused while the Hessian's pattern does not change.
-          if (A.nonZeros() != analysed_nonzeros)
+          // The symbolic analysis is reused while the Hessian's pattern does not change (the whole
+          // pattern is compared: contact problems trade pairs and can keep the count of nonzeros).
+          const bool same_pattern =
+              A.nonZeros() == analysed_nonzeros && A.outerSize() + 1 == Eigen::Index(analysed_outer.size()) &&
+              std::equal(analysed_outer.begin(), analysed_outer.end(), A.outerIndexPtr()) &&
+              std::equal(analysed_inner.begin(), analysed_inner.end(), A.innerIndexPtr());
+          if (!same_pattern)
             {
               cholesky.analyzePattern(A);
               analysed_nonzeros = A.nonZeros();
+              analysed_outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
+              analysed_inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
             }
           cholesky.factorize(A);
           ++result.factorizations;
@@ -174,6 +185,17 @@ namespace nlmech
         AssertThrow(accepted, dealii::ExcMessage("Newton: the line search found no decrease (gradient norm " +
                                                  std::to_string(g.norm()) + ")."));
         g = free_gradient(x);
+        AssertThrow(g.allFinite(),
+                    dealii::ExcMessage("Newton: the gradient is not finite at an accepted state "
+                                       "(energy " +
+                                       std::to_string(energy) + ")."));
+        if (settings.converged && settings.converged(x, g.norm(), g0))
+          {
+            ++result.iterations;
+            result.gradient_norm = g.norm();
+            result.energy        = energy;
+            return result;
+          }
         // Two short (collision-bounded) steps in a row: damp the near-null directions harder.
         short_steps = safe < 0.5 ? short_steps + 1 : 0;
         if (settings.grow_shift_on_short_steps && short_steps >= 2)

@@ -35,6 +35,11 @@ namespace nlmech
     Eigen::VectorXd shift_metric;
     /// Called with every accepted state (for checks and monitoring).
     std::function<void(const Eigen::VectorXd &)> on_accepted;
+    /// An additional convergence test after every accepted step, given the state and the free
+    /// gradient's norm now and at the start (for example on the quantities of interest of a
+    /// problem with near-null motions that keep drifting; empty: none).
+    std::function<bool(const Eigen::VectorXd &x, double gradient_norm, double initial_gradient_norm)>
+        converged;
   };
 
   struct NewtonResult
