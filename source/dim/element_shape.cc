@@ -1,11 +1,14 @@
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/dim/element_shape.h>
+#include <nlmech/mesh/gmsh_mesh.h>
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <map>
 #include <numeric>
 
 namespace nlmech::dim
@@ -116,6 +119,63 @@ namespace nlmech::dim
     for (auto &p : shape.points)
       p -= c;
     return c;
+  }
+
+  ElementShape triangle_mesh_element(const std::string &file, const double skin_radius, const double density,
+                                     const double mesh_size)
+  {
+    AssertThrow(skin_radius >= 0 && mesh_size >= 0,
+                dealii::ExcMessage("Mesh element: the skin radius and mesh size must not be negative."));
+    MeshOptions options;
+    options.file                  = file;
+    options.characteristic_length = mesh_size;
+    const auto mesh               = read_simplex_mesh<3>(options, 2);
+    check_simplex_mesh(mesh, 2);
+    ElementShape shape;
+    shape.name = "mesh element (" + std::filesystem::path(file).filename().string() + ")";
+    for (const auto &v : mesh.vertices)
+      shape.points.emplace_back(v[0], v[1], v[2]);
+    // Closed and consistently oriented: every directed edge appears once and its reverse once.
+    std::map<std::pair<unsigned, unsigned>, int> directed;
+    for (const auto &c : mesh.cells)
+      {
+        shape.triangles.push_back({{c[0], c[1], c[2]}});
+        shape.triangle_radius.push_back(skin_radius);
+        for (int k = 0; k < 3; ++k)
+          ++directed[{c[k], c[(k + 1) % 3]}];
+      }
+    bool closed = true;
+    for (const auto &[edge, count] : directed)
+      closed = closed && count == 1 && directed.count({edge.second, edge.first}) &&
+               directed.at({edge.second, edge.first}) == 1;
+    // Enclosed volume and its centroid by the divergence theorem (tetrahedra to the origin).
+    double          volume = 0;
+    Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+    for (const auto &[a, b, c] : shape.triangles)
+      {
+        const double v = shape.points[a].dot(shape.points[b].cross(shape.points[c])) / 6;
+        volume += v;
+        moment += v * (shape.points[a] + shape.points[b] + shape.points[c]) / 4;
+      }
+    Eigen::Vector3d centre;
+    if (closed && std::abs(volume) > 0)
+      {
+        centre     = moment / volume;
+        shape.mass = density * std::abs(volume);
+      }
+    else
+      {
+        AssertThrow(
+            skin_radius > 0,
+            dealii::ExcMessage("Mesh element <" + file +
+                               ">: the surface is not closed (or not consistently oriented), so "
+                               "it has no volume; give it a skin radius > 0 to count it as a shell."));
+        centre     = shape.centroid();
+        shape.mass = density * shape.volume();
+      }
+    for (auto &p : shape.points)
+      p -= centre;
+    return shape;
   }
 
   ElementShape torus_ring(const double R, const double r, const unsigned int N, const double density)

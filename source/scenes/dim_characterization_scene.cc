@@ -36,10 +36,12 @@ namespace nlmech
       static void declare_parameters(ParameterHandler &prm)
       {
         prm.enter_subsection("Material");
-        prm.declare_entry("Pattern", "threefold",
-                          Patterns::Selection("4-in-1|threefold|torus knot|scale mail|ring chain"),
-                          "The interlocking pattern (ring chain: the validation material with a closed-form "
-                          "stretch limit).");
+        prm.declare_entry(
+            "Pattern", "threefold",
+            Patterns::Selection("4-in-1|threefold|torus knot|scale mail|ring chain|mesh element"),
+            "The interlocking pattern (ring chain: the validation material with a closed-form "
+            "stretch limit; mesh element: any shape from a triangulated surface, placed by the "
+            "'Mesh element' subsection).");
         prm.declare_entry("Density", "1.24e-6", Patterns::Double(0),
                           "Element material density [kg/mm^3] (PLA).");
         prm.enter_subsection("4-in-1");
@@ -86,6 +88,22 @@ namespace nlmech
         prm.declare_entry("Spacing", "5.5", Patterns::Double(0), "Distance of linked rings at rest [mm].");
         prm.declare_entry("Row spacing", "12", Patterns::Double(0), "Distance of the (unlinked) rows [mm].");
         prm.declare_entry("Segments", "64", Patterns::Integer(8), "Centreline segments per ring.");
+        prm.leave_subsection();
+        prm.enter_subsection("Mesh element");
+        prm.declare_entry("Mesh file", "", Patterns::Anything(),
+                          "Triangulated surface of the element: gmsh .msh, or a .geo source meshed in 2D "
+                          "(relative to this file) [mm].");
+        prm.declare_entry("Mesh size", "0", Patterns::Double(0),
+                          "Largest triangle edge for a .geo source [mm] (0: the file's own sizes).");
+        prm.declare_entry("Skin radius", "0", Patterns::Double(0),
+                          "Swept-sphere radius around every triangle [mm] (needed for an open surface).");
+        prm.declare_entry("Lattice vector 1", "10, 0", Patterns::List(Patterns::Double(), 2, 2),
+                          "t1 of the periodic cell [mm].");
+        prm.declare_entry("Lattice vector 2", "0, 10", Patterns::List(Patterns::Double(), 2, 2),
+                          "t2 of the periodic cell [mm].");
+        prm.declare_entry("Elements", "0, 0, 0, 0, 0, 0", Patterns::Anything(),
+                          "The cell's elements, separated by ';': centre x, y, z [mm] and rotation vector "
+                          "[deg] each.");
         prm.leave_subsection();
         prm.leave_subsection();
 
@@ -175,6 +193,43 @@ namespace nlmech
             pattern = scale_mail_pattern(d, density);
             prm.leave_subsection();
           }
+        else if (material_name == "mesh element")
+          {
+            prm.enter_subsection("Mesh element");
+            const std::string file = resolve_input_path(prm.get("Mesh file"), current_parameter_directory());
+            AssertThrow(!prm.get("Mesh file").empty(),
+                        ExcMessage("Mesh element: give the 'Mesh file' of the element's surface."));
+            pattern.name = "mesh element";
+            pattern.shapes.push_back(triangle_mesh_element(file, prm.get_double("Skin radius"), density,
+                                                           prm.get_double("Mesh size")));
+            auto vector2 = [&](const std::string &entry) {
+              const auto v = Utilities::string_to_double(Utilities::split_string_list(prm.get(entry)));
+              return Eigen::Vector2d(v[0], v[1]);
+            };
+            pattern.t1 = vector2("Lattice vector 1"), pattern.t2 = vector2("Lattice vector 2");
+            AssertThrow(std::abs(pattern.t1.x() * pattern.t2.y() - pattern.t1.y() * pattern.t2.x()) > 1e-9,
+                        ExcMessage("Mesh element: the lattice vectors must not be parallel."));
+            for (const auto &element : Utilities::split_string_list(prm.get("Elements"), ';'))
+              {
+                std::vector<double> v;
+                try
+                  {
+                    v = Utilities::string_to_double(Utilities::split_string_list(element));
+                  }
+                catch (...)
+                  {
+                  }
+                AssertThrow(v.size() == 6,
+                            ExcMessage("Mesh element: every entry of 'Elements' needs six numbers "
+                                       "(x, y, z, rotation vector in degrees): <" +
+                                       element + ">."));
+                pattern.shape_of.push_back(0);
+                pattern.centres.emplace_back(v[0], v[1], v[2]);
+                pattern.rotations.push_back(Eigen::Vector3d(v[3], v[4], v[5]) * degree);
+              }
+            pattern.neighbours = 0; // no centreline: links are not checked
+            prm.leave_subsection();
+          }
         else
           {
             prm.enter_subsection("Ring chain");
@@ -231,6 +286,8 @@ namespace nlmech
         // The starting states: intersection-free (names the pair otherwise).
         const auto cell = periodic_cell(pattern, {});
         check_initial_state(*cell.assembly, cell.q, settings.contact.separation);
+        if (pattern.neighbours == 0)
+          return; // elements without centrelines (triangle meshes): links cannot be counted
         const auto links = find_links(*cell.assembly, cell.q);
         for (unsigned b = 0; b < links.per_element.size(); ++b)
           AssertThrow(links.per_element[b] == pattern.neighbours,

@@ -1,6 +1,7 @@
 // Native-scale contact of rigid interlocking elements: barrier derivatives against finite
 // differences for every placement and primitive type, distances against closed forms, and two linked
 // tori pulled apart, whose largest centre distance is 2 (R - r) (the inner edges of the two holes touch).
+#include <nlmech/dim/element_shape.h>
 #include <nlmech/dim/patterns.h>
 #include <nlmech/dim/rigid_assembly.h>
 #include <nlmech/models/model.h>
@@ -246,6 +247,39 @@ TEST(LinkedTori, LargestCentreDistanceIsTwiceTheHoleRadius)
               assembly->smallest_gap(q).gap);
   EXPECT_NEAR(distance, expected, 0.005 * expected);
   EXPECT_GT(assembly->smallest_gap(q).gap, 0.0);
+}
+
+TEST(MeshElement, ATriangulatedTorusHasTheTorusVolumeExtentAndCentre)
+{
+  // meshes/dim-torus.geo (gmsh, OpenCASCADE torus R = 3, r = 1) as a closed triangulated surface:
+  // the enclosed volume tends to 2 pi^2 R r^2 as the mesh is refined (the vertices lie on the torus,
+  // so the polyhedron is inside it by about the chord sagitta), the extent is R + r, the centre of
+  // mass is the origin.
+  const double R = 3, r = 1, exact = 2 * M_PI * M_PI * R * r * r;
+  double       last_error = 1;
+  for (const double h : {0.8, 0.4})
+    {
+      const ElementShape s =
+          triangle_mesh_element(std::string(NLMECH_SOURCE_DIR) + "/meshes/dim-torus.geo", 0.0, 1.0, h);
+      const double error = std::abs(s.mass / exact - 1);
+      std::printf("mesh torus h = %.1f: %zu triangles, volume %.4f (exact %.4f, %.2f %% low), extent %.4f\n",
+                  h, s.triangles.size(), s.mass, exact, 100 * error, s.bounding_radius());
+      EXPECT_LT(s.mass, exact);
+      EXPECT_LT(error, 2 * h * h / (8 * r) / r + 0.01); // about twice the relative sagitta
+      EXPECT_LT(error, last_error);                     // converges
+      EXPECT_NEAR(s.bounding_radius(), R + r, 0.01);
+      // Centred: the extremes are symmetric about the origin (x, y: R + r; z: r).
+      Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+      for (const auto &p : s.points)
+        lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+      EXPECT_LT((hi + lo).lpNorm<Eigen::Infinity>(), 0.02);
+      EXPECT_NEAR(hi.z(), r, 0.02);
+      last_error = error;
+    }
+  // An open surface without a skin has no volume: rejected with an explanation.
+  EXPECT_THROW(
+      triangle_mesh_element(std::string(NLMECH_SOURCE_DIR) + "/meshes/unit_square.geo", 0.0, 1.0, 0.5),
+      std::exception);
 }
 
 TEST(LinkedTori, TightAndImpossibleLinksAreRejectedAndTheFreeRangeClosesAtRIsTwoR)

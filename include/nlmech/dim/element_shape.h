@@ -54,6 +54,16 @@ namespace nlmech::dim
   ElementShape scale_mail_element(double R, double r, double h, unsigned int N, double plate_radius,
                                   double plate_thickness, double plate_height, double density);
 
+  /// An element of arbitrary shape from a triangulated surface: a gmsh .msh file or a .geo source
+  /// (meshed in 2D with elements of at most `mesh_size`, 0: the file's own sizes; STL, OBJ, STEP
+  /// and other inputs go through a .geo that merges them). Every triangle becomes a swept-sphere
+  /// slab of radius `skin_radius` (0: the bare triangles; exact triangle distances either way).
+  /// For a closed, consistently oriented surface the mass is density times the enclosed volume
+  /// and the origin is the solid's centre of mass; otherwise the surface counts as a shell of
+  /// thickness 2 skin_radius. The element has no centreline, so its links are not checked.
+  ElementShape triangle_mesh_element(const std::string &file, double skin_radius, double density,
+                                     double mesh_size = 0);
+
   /// Linking number of two closed polylines (exact for polylines: the sum of the signed solid
   /// angles of segment pairs over 4 pi, Klenin and Langowski 2000), rounded to the nearest integer.
   int linking_number(const std::vector<Eigen::Vector3d> &a, const std::vector<Eigen::Vector3d> &b);
