@@ -75,6 +75,28 @@ namespace nlmech::dim
               }
           }
         p.vertices.assign(vertices.begin(), vertices.end());
+        // Sphere trees over the primitives in the body frame (radius: points plus sweep).
+        Trees                        t;
+        std::vector<Eigen::Vector3d> centres;
+        std::vector<double>          radii;
+        for (std::size_t e = 0; e < p.edges.size(); ++e)
+          {
+            const auto [c, r] = sphere(shape.points, p.edges[e]);
+            centres.push_back(c), radii.push_back(r + p.edge_radius[e]);
+          }
+        t.edges = SphereTree(centres, radii);
+        centres.clear(), radii.clear();
+        for (std::size_t f = 0; f < p.faces.size(); ++f)
+          {
+            const auto [c, r] = sphere(shape.points, p.faces[f]);
+            centres.push_back(c), radii.push_back(r + p.face_radius[f]);
+          }
+        t.faces = SphereTree(centres, radii);
+        centres.clear(), radii.clear();
+        for (const auto &[v, rv] : p.vertices)
+          centres.push_back(shape.points[v]), radii.push_back(rv);
+        t.vertices = SphereTree(centres, radii);
+        trees.push_back(std::move(t));
         primitives.push_back(std::move(p));
         double rho = 0;
         for (const auto &x : shape.points)
@@ -202,13 +224,25 @@ namespace nlmech::dim
     return pairs;
   }
 
+  SphereTree::Placement RigidAssembly::placement_of(const Eigen::VectorXd &q, const unsigned body,
+                                                    const std::array<int, 2> &image) const
+  {
+    SphereTree::Placement p;
+    p.R = rotation(q.segment<3>(6 * body + 3));
+    p.t = centre(q, body, image);
+    return p;
+  }
+
   std::vector<ContactPair> RigidAssembly::contact_pairs(const Eigen::VectorXd &q, const double reach) const
   {
     std::vector<ContactPair> result;
+    const auto               within = [reach]() { return reach; };
     for (const auto &[a, b, image] : body_pairs(q, reach))
       {
         const auto                        &sa = shape(a), &sb = shape(b);
         const auto                        &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
+        const auto                        &ta = trees[shape_of[a]], &tb = trees[shape_of[b]];
+        const SphereTree::Placement        la = placement_of(q, a, {{0, 0}}), lb = placement_of(q, b, image);
         const std::vector<Eigen::Vector3d> xa = world_points(q, a), xb = world_points(q, b, image);
         auto add = [&](const ClosestType &c, const std::array<Eigen::Vector3d, 4> &points,
                        const std::array<unsigned char, 4> &owner, const double radius_sum) {
@@ -222,43 +256,30 @@ namespace nlmech::dim
             pair.body_points[k] = points[c.points[k]], pair.owner[k] = owner[c.points[k]];
           result.push_back(pair);
         };
-        std::vector<std::pair<Eigen::Vector3d, double>> spheres_b;
-        for (const auto &e : pb.edges)
-          spheres_b.push_back(sphere(xb, e));
-        for (std::size_t ea = 0; ea < pa.edges.size(); ++ea)
-          {
-            const auto [ca, ra] = sphere(xa, pa.edges[ea]);
-            for (std::size_t eb = 0; eb < pb.edges.size(); ++eb)
-              {
-                const double rs = pa.edge_radius[ea] + pb.edge_radius[eb];
-                if ((ca - spheres_b[eb].first).norm() - ra - spheres_b[eb].second - rs >= reach)
-                  continue;
-                const auto &[i0, i1] = pa.edges[ea];
-                const auto &[j0, j1] = pb.edges[eb];
-                add(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]),
-                    {sa.points[i0], sa.points[i1], sb.points[j0], sb.points[j1]}, {0, 0, 1, 1}, rs);
-              }
-          }
+        // Edge pairs whose swept spheres come within reach (the trees prune whole subtrees).
+        SphereTree::for_close_pairs(ta.edges, la, tb.edges, lb, within, [&](unsigned ea, unsigned eb) {
+          const auto &[i0, i1] = pa.edges[ea];
+          const auto &[j0, j1] = pb.edges[eb];
+          add(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]),
+              {sa.points[i0], sa.points[i1], sb.points[j0], sb.points[j1]}, {0, 0, 1, 1},
+              pa.edge_radius[ea] + pb.edge_radius[eb]);
+        });
         // Points of one element against the faces of the other (both ways).
         for (int side = 0; side < 2; ++side)
           {
             const auto         &pv = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
             const auto         &xv = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
             const auto         &sv = side == 0 ? sa : sb, &sf = side == 0 ? sb : sa;
+            const auto         &tv = side == 0 ? ta : tb, &tf = side == 0 ? tb : ta;
+            const auto         &lv = side == 0 ? la : lb, &lf = side == 0 ? lb : la;
             const unsigned char ov = side == 0 ? 0 : 1, of = side == 0 ? 1 : 0;
-            for (std::size_t f = 0; f < pf.faces.size(); ++f)
-              {
-                const auto [cf, rf]      = sphere(xf, pf.faces[f]);
-                const auto &[t0, t1, t2] = pf.faces[f];
-                for (const auto &[v, rv] : pv.vertices)
-                  {
-                    const double rs = rv + pf.face_radius[f];
-                    if ((xv[v] - cf).norm() - rf - rs >= reach)
-                      continue;
-                    add(point_triangle_type(xv[v], xf[t0], xf[t1], xf[t2]),
-                        {sv.points[v], sf.points[t0], sf.points[t1], sf.points[t2]}, {ov, of, of, of}, rs);
-                  }
-              }
+            SphereTree::for_close_pairs(tv.vertices, lv, tf.faces, lf, within, [&](unsigned k, unsigned f) {
+              const auto &[v, rv]      = pv.vertices[k];
+              const auto &[t0, t1, t2] = pf.faces[f];
+              add(point_triangle_type(xv[v], xf[t0], xf[t1], xf[t2]),
+                  {sv.points[v], sf.points[t0], sf.points[t1], sf.points[t2]}, {ov, of, of, of},
+                  rv + pf.face_radius[f]);
+            });
           }
       }
     return result;
@@ -280,108 +301,32 @@ namespace nlmech::dim
                                   const std::array<int, 2> &image, const double cutoff) const
   {
     const auto                        &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
+    const auto                        &ta = trees[shape_of[a]], &tb = trees[shape_of[b]];
+    const SphereTree::Placement        la = placement_of(q, a, {{0, 0}}), lb = placement_of(q, b, image);
     const std::vector<Eigen::Vector3d> xa = world_points(q, a), xb = world_points(q, b, image);
-    // Bounding spheres of every primitive (centreline points plus the sweep); a pair whose spheres
-    // are farther apart than the best gap so far (or the cutoff) cannot be closer.
-    struct Ball
-    {
-      Eigen::Vector3d c;
-      double          r;
-    };
-    auto edge_balls = [](const Primitives &p, const std::vector<Eigen::Vector3d> &x) {
-      std::vector<Ball> balls;
-      for (std::size_t e = 0; e < p.edges.size(); ++e)
-        {
-          const auto [c, r] = sphere(x, p.edges[e]);
-          balls.push_back({c, r + p.edge_radius[e]});
-        }
-      return balls;
-    };
-    auto face_balls = [](const Primitives &p, const std::vector<Eigen::Vector3d> &x) {
-      std::vector<Ball> balls;
-      for (std::size_t f = 0; f < p.faces.size(); ++f)
-        {
-          const auto [c, r] = sphere(x, p.faces[f]);
-          balls.push_back({c, r + p.face_radius[f]});
-        }
-      return balls;
-    };
-    const auto ea_balls = edge_balls(pa, xa), eb_balls = edge_balls(pb, xb);
-    const auto fa_balls = face_balls(pa, xa), fb_balls = face_balls(pb, xb);
-    // Two levels: balls around chunks of consecutive primitives (polylines are spatially coherent),
-    // then the primitives of chunk pairs that could hold a gap below the best so far.
-    struct Candidate
-    {
-      double   bound;
-      int      kind; // 0: edge-edge, 1: edge of a - face of b, 2: edge of b - face of a
-      unsigned i, j;
-    };
-    constexpr unsigned chunk       = 8;
-    auto               chunk_balls = [](const std::vector<Ball> &balls) {
-      std::vector<Ball> chunks;
-      for (unsigned first = 0; first < balls.size(); first += chunk)
-        {
-          const unsigned  last = std::min<unsigned>(first + chunk, balls.size());
-          Eigen::Vector3d c    = Eigen::Vector3d::Zero();
-          for (unsigned k = first; k < last; ++k)
-            c += balls[k].c;
-          c /= double(last - first);
-          double r = 0;
-          for (unsigned k = first; k < last; ++k)
-            r = std::max(r, (balls[k].c - c).norm() + balls[k].r);
-          chunks.push_back({c, r});
-        }
-      return chunks;
-    };
-    auto evaluate = [&](const Candidate &c) {
-      if (c.kind == 0)
-        {
-          const auto &[i0, i1] = pa.edges[c.i];
-          const auto &[j0, j1] = pb.edges[c.j];
-          return std::sqrt(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]).squared_distance) -
-                 pa.edge_radius[c.i] - pb.edge_radius[c.j];
-        }
-      // Edges against faces (a crossing gives distance 0, so the gap is minus the radii).
-      const auto &pe = c.kind == 1 ? pa : pb, &pf = c.kind == 1 ? pb : pa;
-      const auto &xe = c.kind == 1 ? xa : xb, &xf = c.kind == 1 ? xb : xa;
-      const auto &[t0, t1, t2] = pf.faces[c.j];
-      return segment_triangle_distance(xe[pe.edges[c.i][0]], xe[pe.edges[c.i][1]], xf[t0], xf[t1], xf[t2]) -
-             pe.edge_radius[c.i] - pf.face_radius[c.j];
-    };
-    double gap = std::numeric_limits<double>::infinity();
-    // Chunk pairs of all three kinds, nearest bound first.
-    std::vector<Candidate>                                                               chunk_pairs;
-    const std::array<std::pair<const std::vector<Ball> *, const std::vector<Ball> *>, 3> kinds{
-        {{&ea_balls, &eb_balls}, {&ea_balls, &fb_balls}, {&eb_balls, &fa_balls}}};
-    std::array<std::pair<std::vector<Ball>, std::vector<Ball>>, 3> chunks;
-    for (int kind = 0; kind < 3; ++kind)
+    // Branch and bound over both trees: a pair of subtrees whose spheres are farther apart than the
+    // best gap so far (or the cutoff) cannot hold a closer pair. Edges against edges, and edges
+    // against faces both ways (a crossing gives distance 0, so the gap is minus the radii).
+    double     gap   = std::numeric_limits<double>::infinity();
+    const auto bound = [&]() { return std::min(gap, cutoff); };
+    SphereTree::for_close_pairs(ta.edges, la, tb.edges, lb, bound, [&](unsigned i, unsigned j) {
+      const auto &[i0, i1] = pa.edges[i];
+      const auto &[j0, j1] = pb.edges[j];
+      gap = std::min(gap, std::sqrt(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]).squared_distance) -
+                              pa.edge_radius[i] - pb.edge_radius[j]);
+    });
+    for (int side = 0; side < 2; ++side)
       {
-        chunks[kind] = {chunk_balls(*kinds[kind].first), chunk_balls(*kinds[kind].second)};
-        for (unsigned i = 0; i < chunks[kind].first.size(); ++i)
-          for (unsigned j = 0; j < chunks[kind].second.size(); ++j)
-            {
-              const double bound = (chunks[kind].first[i].c - chunks[kind].second[j].c).norm() -
-                                   chunks[kind].first[i].r - chunks[kind].second[j].r;
-              if (bound < cutoff)
-                chunk_pairs.push_back({bound, kind, i, j});
-            }
-      }
-    std::sort(chunk_pairs.begin(), chunk_pairs.end(),
-              [](const Candidate &x, const Candidate &y) { return x.bound < y.bound; });
-    for (const auto &cp : chunk_pairs)
-      {
-        if (cp.bound >= std::min(gap, cutoff))
-          break;
-        const auto    &x = *kinds[cp.kind].first, &y = *kinds[cp.kind].second;
-        const unsigned i_end = std::min<unsigned>((cp.i + 1) * chunk, x.size()),
-                       j_end = std::min<unsigned>((cp.j + 1) * chunk, y.size());
-        for (unsigned i = cp.i * chunk; i < i_end; ++i)
-          for (unsigned j = cp.j * chunk; j < j_end; ++j)
-            {
-              const double bound = (x[i].c - y[j].c).norm() - x[i].r - y[j].r;
-              if (bound < std::min(gap, cutoff))
-                gap = std::min(gap, evaluate({bound, cp.kind, i, j}));
-            }
+        const auto &pe = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
+        const auto &xe = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
+        const auto &te = side == 0 ? ta : tb, &tf = side == 0 ? tb : ta;
+        const auto &le = side == 0 ? la : lb, &lf = side == 0 ? lb : la;
+        SphereTree::for_close_pairs(te.edges, le, tf.faces, lf, bound, [&](unsigned i, unsigned f) {
+          const auto &[t0, t1, t2] = pf.faces[f];
+          gap                      = std::min(
+                                   gap, segment_triangle_distance(xe[pe.edges[i][0]], xe[pe.edges[i][1]], xf[t0], xf[t1], xf[t2]) -
+                                            pe.edge_radius[i] - pf.face_radius[f]);
+        });
       }
     return gap;
   }

@@ -311,10 +311,12 @@ namespace nlmech
         for (const auto &test : tests)
           {
             ProgressReporter progress(test + " samples", 1.0, context.comm, std::cout);
-            const auto       start = std::chrono::steady_clock::now();
+            const auto       start    = std::chrono::steady_clock::now();
+            unsigned         new_here = 0; // samples solved by this rank in this run (not resumed)
             const auto       samples =
                 sample_strain_space(pattern, test, plan, settings, checkpoint, context.comm,
                                     [&](const unsigned done, const unsigned mine, const Sample &s) {
+                                      ++new_here;
                                       std::ostringstream label;
                                       label << s.key() << ": " << s.outcome.principal << ", "
                                             << s.outcome.orthogonal << " (" << s.outcome.iterations
@@ -359,8 +361,12 @@ namespace nlmech
             context.summary.add_number(prefix + "_samples", samples.size());
             context.summary.add_number(prefix + "_samples_at_far_target", at_target);
             context.summary.add_figure(prefix + "_median_seconds_per_sample", times[times.size() / 2], "s");
-            context.summary.add_figure(prefix + "_samples_per_minute", 60.0 * samples.size() / seconds,
-                                       "1/min");
+            // The rate counts only the samples solved in this run (resumed ones cost nothing).
+            const unsigned new_samples = Utilities::MPI::sum(new_here, context.comm);
+            context.summary.add_number(prefix + "_new_samples", new_samples);
+            if (new_samples > 0)
+              context.summary.add_figure(prefix + "_samples_per_minute", 60.0 * new_samples / seconds,
+                                         "1/min");
             context.summary.add_number(prefix + "_boundary_vertices", checked.vertices);
             context.summary.add_number(prefix + "_boundary_triangles", checked.triangles);
             context.summary.add_number(prefix + "_boundary_closed", checked.closed ? 1 : 0);

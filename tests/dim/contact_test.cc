@@ -10,7 +10,9 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 using namespace nlmech;
@@ -280,6 +282,114 @@ TEST(MeshElement, ATriangulatedTorusHasTheTorusVolumeExtentAndCentre)
   EXPECT_THROW(
       triangle_mesh_element(std::string(NLMECH_SOURCE_DIR) + "/meshes/unit_square.geo", 0.0, 1.0, 0.5),
       std::exception);
+}
+
+TEST(MeshElement, SphereTreeSearchFindsWhatTheAllPairsSearchFinds)
+{
+  // Two triangulated tori (skin 0.02 mm) in random placements near contact: the smallest gap and
+  // the primitive pairs within reach from the sphere-tree search against the all-pairs reference
+  // computed here from the shape's triangles (every edge-edge and edge-face pair for the gap,
+  // edge-edge and vertex-face pairs for the contact list).
+  const double       skin = 0.02;
+  const ElementShape s =
+      triangle_mesh_element(std::string(NLMECH_SOURCE_DIR) + "/meshes/dim-torus.geo", skin, 1e-6, 0.8);
+  RigidAssembly                        assembly({s}, {0, 0});
+  std::vector<std::array<unsigned, 2>> edges;
+  for (const auto &t : s.triangles)
+    for (unsigned k = 0; k < 3; ++k)
+      if (t[k] < t[(k + 1) % 3])
+        edges.push_back({t[k], t[(k + 1) % 3]});
+  std::mt19937                           rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  unsigned                               with_pairs = 0;
+  for (int trial = 0; trial < 6; ++trial)
+    {
+      const double    reach = 0.15;
+      Eigen::VectorXd q =
+          state({body(0, 0, 0, 0, 0, 0), body(4.0 + 0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng),
+                                              M_PI / 2 + 0.05 * u(rng), 0.05 * u(rng), 0.05 * u(rng))});
+      const auto  xa = assembly.world_points(q, 0), xb = assembly.world_points(q, 1);
+      double      brute = std::numeric_limits<double>::infinity();
+      std::size_t close = 0;
+      for (const auto &ea : edges)
+        for (const auto &eb : edges)
+          {
+            const double g =
+                std::sqrt(segment_segment_type(xa[ea[0]], xa[ea[1]], xb[eb[0]], xb[eb[1]]).squared_distance) -
+                2 * skin;
+            brute = std::min(brute, g);
+            close += g < reach;
+          }
+      for (int side = 0; side < 2; ++side)
+        {
+          const auto &xe = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
+          for (const auto &e : edges)
+            for (const auto &t : s.triangles)
+              brute = std::min(brute,
+                               segment_triangle_distance(xe[e[0]], xe[e[1]], xf[t[0]], xf[t[1]], xf[t[2]]) -
+                                   2 * skin);
+          for (std::size_t v = 0; v < s.points.size(); ++v)
+            for (const auto &t : s.triangles)
+              close += std::sqrt(point_triangle_type(xe[v], xf[t[0]], xf[t[1]], xf[t[2]]).squared_distance) -
+                           2 * skin <
+                       reach;
+        }
+      const double tree  = assembly.exact_gap(q, 0, 1, {{0, 0}});
+      const auto   pairs = assembly.contact_pairs(q, reach);
+      std::printf(
+          "placement %d: smallest gap %.6e (all pairs %.6e), %zu pairs within reach (all pairs %zu)\n", trial,
+          tree, brute, pairs.size(), close);
+      EXPECT_NEAR(tree, brute, 1e-12);
+      EXPECT_EQ(pairs.size(), close);
+      with_pairs += close > 0;
+    }
+  EXPECT_GE(with_pairs, 3u); // the placements do come within reach
+}
+
+TEST(MeshElement, LinkedTriangulatedToriSeparateToTwiceTheHoleRadius)
+{
+  // Two linked tori from meshes/dim-torus.geo (gmsh surface, h = 0.5 mm, skin radius s = 0.05 mm),
+  // ring B pulled along the axis with only its x free (as the free-range test below): the largest
+  // centre distance is 2 (R - r) - 2 s (each skin adds s to the tube and takes it from the hole),
+  // plus at most the chord sagittas of the inscribed polyhedra at the two touching surfaces (the
+  // facets lie inside the torus: h^2 / 8 r across the tube, h^2 / 8 (R - r) along the hole).
+  const double       R = 3, r = 1, h = 0.5, skin = 0.05;
+  const ElementShape s =
+      triangle_mesh_element(std::string(NLMECH_SOURCE_DIR) + "/meshes/dim-torus.geo", skin, 1.24e-6, h);
+  auto assembly = std::make_shared<RigidAssembly>(std::vector<ElementShape>{s}, std::vector<unsigned>{0, 0});
+  ContactSettings settings;
+  settings.dhat  = 1e-3;
+  settings.kappa = 1e-2;
+  Model model(assembly->n_unknowns());
+  model.add_term(std::make_shared<ContactBarrier>(assembly, settings));
+  model.add_term(std::make_shared<CentreForces>(
+      assembly, std::vector<Eigen::Vector3d>{Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0, 0)}));
+  Eigen::VectorXd q = state({body(0, 0, 0, 0, 0, 0), body(R, 0, 0, M_PI / 2, 0, 0)});
+  for (unsigned k = 0; k < 12; ++k)
+    if (k != 6)
+      model.fix(k, q[k]);
+  ASSERT_TRUE(model.is_valid(q));
+  // Every accepted state is intersection-free (exact gaps between the swept triangles).
+  double         smallest = std::numeric_limits<double>::infinity();
+  NewtonSettings newton;
+  newton.max_iterations = 200;
+  newton.step_tolerance = 1e-10;
+  newton.on_accepted    = [&](const Eigen::VectorXd &x) {
+    smallest = std::min(smallest, assembly->smallest_gap(x).gap);
+  };
+  const auto   started  = std::chrono::steady_clock::now();
+  const auto   result   = minimize_with_newton(model, q, newton);
+  const double seconds  = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double distance = (assembly->centre(q, 1) - assembly->centre(q, 0)).norm();
+  const double expected = 2 * (R - r) - 2 * skin, sagittas = h * h / (8 * r) + h * h / (8 * (R - r));
+  std::printf(
+      "linked mesh tori (%zu triangles each): distance %.5f mm, expected %.5f (+ up to %.4f), %u Newton "
+      "iterations, %.2f s, smallest gap on the way %.2e mm\n",
+      s.triangles.size(), distance, expected, sagittas, result.iterations, seconds, smallest);
+  EXPECT_GT(distance, expected - 1e-3);
+  EXPECT_LT(distance, expected + sagittas + 1e-3);
+  EXPECT_GT(smallest, 0.0);
+  EXPECT_GT(assembly->smallest_gap(q).gap, 0.0);
 }
 
 TEST(LinkedTori, TightAndImpossibleLinksAreRejectedAndTheFreeRangeClosesAtRIsTwoR)

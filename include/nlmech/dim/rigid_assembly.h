@@ -16,6 +16,7 @@
 
 #include <nlmech/dim/element_shape.h>
 #include <nlmech/dim/primitive_distance.h>
+#include <nlmech/dim/sphere_tree.h>
 #include <nlmech/models/energy_term.h>
 
 #include <Eigen/Core>
@@ -145,8 +146,17 @@ namespace nlmech::dim
                                               std::array<int, 2> image = {{0, 0}}) const;
 
   private:
-    std::vector<ElementShape>    shapes;
-    std::vector<Primitives>      primitives;
+    std::vector<ElementShape> shapes;
+    std::vector<Primitives>   primitives;
+    /// Per shape, bounding-sphere trees (body frame) over its edges, faces and primitive points.
+    struct Trees
+    {
+      SphereTree edges, faces, vertices;
+    };
+    std::vector<Trees> trees;
+    /// Rigid placement of a body's (or its image's) frame in the world.
+    SphereTree::Placement        placement_of(const Eigen::VectorXd &q, unsigned body,
+                                              const std::array<int, 2> &image) const;
     std::vector<double>          reach_radius; // max |p| over a shape's points
     std::vector<unsigned int>    shape_of;
     Placement                    place;

@@ -98,7 +98,7 @@ namespace nlmech
     /// (the starting point) when `w` is empty.
     void assemble(const ConicQP &problem, const Eigen::VectorXd &w, const std::vector<double> &eta);
 
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky;
+    Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Upper> cholesky;
     Eigen::SparseMatrix<double>                                            normal;
     // Consecutive cones on the same columns of G form a group (cones group_begin[g] to
     // group_begin[g + 1]); per group its columns and where the entries of its block of the normal
