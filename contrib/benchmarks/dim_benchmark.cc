@@ -6,13 +6,19 @@
 //     materials.
 // Each test is run `repeats` times; medians are printed with Newton iterations and the limit found.
 // Samples per minute on 1 and 2 ranks come from the dim-characterization scene (see README.md).
+// Last, the contact queries between triangulated elements (sphere trees against all primitive
+// pairs, same placement, same answers).
 // usage: dim_benchmark [repeats] [largest patch]
 #include <nlmech/dim/characterization.h>
+#include <nlmech/dim/element_shape.h>
+#include <nlmech/dim/rigid_assembly.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 using namespace nlmech::dim;
@@ -83,6 +89,50 @@ int main(int argc, char **argv)
       std::printf("| %s | %zu | %.3f s | %u | %.4f | %.3f s | %u | %.4f | %.4f |\n", p.name.c_str(),
                   p.centres.size(), median(ts), s.iterations, s.principal, median(tc), c.iterations,
                   c.principal, travel_metric(s.principal, c.principal));
+      std::fflush(stdout);
+    }
+
+  // Contact queries between triangulated elements: the sphere trees against every primitive pair.
+  std::printf(
+      "\nContact queries between two triangulated tori (meshes/dim-torus.geo, R = 3, r = 1 mm, skin 0.05 "
+      "mm), ring B through A's hole near contact; sphere trees against all primitive pairs, medians of "
+      "%u x 5 queries\n",
+      repeats);
+  std::printf(
+      "| mesh size h | triangles per element | smallest gap [mm] | gap, trees | gap, all pairs | all pairs / "
+      "trees | pairs within 0.05 mm | pair list, trees | pair list, all pairs | all pairs / trees | same "
+      "result |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const double h : {0.8, 0.5, 0.35})
+    {
+      const ElementShape shape =
+          triangle_mesh_element(std::string(NLMECH_SOURCE_DIR) + "/meshes/dim-torus.geo", 0.05, density, h);
+      const RigidAssembly assembly({shape}, {0, 0});
+      Eigen::VectorXd     q = Eigen::VectorXd::Zero(12);
+      q.segment<6>(6) << 3.88, 0.02, 0.01, M_PI / 2 + 0.01, 0.005, 0.0;
+      const double                   reach = 0.05;
+      std::vector<double>            t_gap, t_brute, t_pairs;
+      double                         gap   = 0;
+      std::size_t                    pairs = 0;
+      std::pair<double, std::size_t> brute;
+      auto                           time = [](const auto &f) {
+        const auto t0 = std::chrono::steady_clock::now();
+        f();
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      };
+      for (unsigned r = 0; r < 5 * repeats; ++r)
+        {
+          t_gap.push_back(time([&] { gap = assembly.exact_gap(q, 0, 1, {{0, 0}}); }));
+          t_pairs.push_back(time([&] { pairs = assembly.contact_pairs(q, reach).size(); }));
+          if (r < repeats) // the all-pairs reference answers both questions in one pass
+            t_brute.push_back(time([&] { brute = assembly.all_pairs_gap(q, 0, 1, {{0, 0}}, reach); }));
+        }
+      std::printf(
+          "| %.2f | %zu | %.4f | %.3f ms | %.1f ms | %.0fx | %zu | %.3f ms | %.1f ms | %.0fx | %s |\n", h,
+          shape.triangles.size(), gap, 1e3 * median(t_gap), 1e3 * median(t_brute),
+          median(t_brute) / median(t_gap), pairs, 1e3 * median(t_pairs), 1e3 * median(t_brute),
+          median(t_brute) / median(t_pairs),
+          std::abs(gap - brute.first) < 1e-12 && pairs == brute.second ? "yes" : "NO");
       std::fflush(stdout);
     }
   MPI_Finalize();

@@ -309,12 +309,14 @@ namespace nlmech::dim
               if (test == "in-plane")
                 {
                   InPlaneTest t(pattern, s.theta, settings);
-                  s.outcome = drive(t);
+                  s.outcome       = drive(t);
+                  s.outcome.state = t.state();
                 }
               else
                 {
                   BendingTest t(pattern, plan.patch_elements, s.theta, settings);
-                  s.outcome = drive(t);
+                  s.outcome       = drive(t);
+                  s.outcome.state = t.state();
                 }
               AssertThrow(std::isfinite(s.outcome.principal) && std::isfinite(s.outcome.orthogonal),
                           dealii::ExcMessage("Sampling: a test returned a non-finite result."));

@@ -331,6 +331,45 @@ namespace nlmech::dim
     return gap;
   }
 
+  std::pair<double, std::size_t> RigidAssembly::all_pairs_gap(const Eigen::VectorXd &q, const unsigned a,
+                                                              const unsigned            b,
+                                                              const std::array<int, 2> &image,
+                                                              const double              reach) const
+  {
+    const auto                        &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
+    const std::vector<Eigen::Vector3d> xa = world_points(q, a), xb = world_points(q, b, image);
+    double                             gap   = std::numeric_limits<double>::infinity();
+    std::size_t                        close = 0;
+    for (std::size_t i = 0; i < pa.edges.size(); ++i)
+      for (std::size_t j = 0; j < pb.edges.size(); ++j)
+        {
+          const auto &[i0, i1] = pa.edges[i];
+          const auto &[j0, j1] = pb.edges[j];
+          const double g = std::sqrt(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]).squared_distance) -
+                           pa.edge_radius[i] - pb.edge_radius[j];
+          gap = std::min(gap, g);
+          close += g < reach;
+        }
+    for (int side = 0; side < 2; ++side)
+      {
+        const auto &pe = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
+        const auto &xe = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
+        for (std::size_t f = 0; f < pf.faces.size(); ++f)
+          {
+            const auto &[t0, t1, t2] = pf.faces[f];
+            for (std::size_t i = 0; i < pe.edges.size(); ++i)
+              gap = std::min(gap, segment_triangle_distance(xe[pe.edges[i][0]], xe[pe.edges[i][1]], xf[t0],
+                                                            xf[t1], xf[t2]) -
+                                      pe.edge_radius[i] - pf.face_radius[f]);
+            for (const auto &[v, rv] : pe.vertices)
+              close += std::sqrt(point_triangle_type(xe[v], xf[t0], xf[t1], xf[t2]).squared_distance) - rv -
+                           pf.face_radius[f] <
+                       reach;
+          }
+      }
+    return {gap, close};
+  }
+
   RigidAssembly::Gap RigidAssembly::smallest_gap(const Eigen::VectorXd &q, const double reach) const
   {
     Gap best;

@@ -308,6 +308,7 @@ namespace nlmech
         limits_csv << "theta_deg,eps_stretch,eps_o_at_stretch,eps_compress,eps_o_at_compress,travel_c,"
                       "kappa_positive,kappa_o_at_positive,kappa_negative,kappa_o_at_negative\n";
         std::vector<DirectionalLimits> stretch(plan.directions), bend(plan.directions);
+        Eigen::VectorXd                limit_state; // of the in-plane sample at theta = 0, if solved here
         for (const auto &test : tests)
           {
             ProgressReporter progress(test + " samples", 1.0, context.comm, std::cout);
@@ -317,6 +318,10 @@ namespace nlmech
                 sample_strain_space(pattern, test, plan, settings, checkpoint, context.comm,
                                     [&](const unsigned done, const unsigned mine, const Sample &s) {
                                       ++new_here;
+                                      // The stretch limit along x, for the VTU (no second solve).
+                                      if (s.test == "in-plane" && s.direction == 0 && s.level == 0 &&
+                                          s.kind == SampleKind::positive)
+                                        limit_state = s.outcome.state;
                                       std::ostringstream label;
                                       label << s.key() << ": " << s.outcome.principal << ", "
                                             << s.outcome.orthogonal << " (" << s.outcome.iterations
@@ -426,7 +431,7 @@ namespace nlmech
         if (context.is_root())
           {
             write_file_atomically(context.output.file("limits.csv"), limits_csv.str());
-            write_states(context);
+            write_states(context, limit_state);
             const std::string command =
                 std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR + "/contrib/plot/dim_limits.py' '" +
                 context.output.file("limits.csv") + "' '" + context.output.file("limits-stretch.png") +
@@ -460,8 +465,10 @@ namespace nlmech
         write_file_atomically(context.output.file("samples-" + test + ".csv"), out.str());
       }
 
-      /// VTU of the cell (3 x 3 images) at rest and at the stretch limit along x.
-      void write_states(RunContext &context) const
+      /// VTU of the cell (3 x 3 images) at rest and at the stretch limit along x (`at_limit`: that
+      /// state from this run's sample; solved again when the sample came from the checkpoint or
+      /// another rank).
+      void write_states(RunContext &context, const Eigen::VectorXd &at_limit) const
       {
         std::vector<std::array<int, 2>> block;
         for (int i = -1; i <= 1; ++i)
@@ -469,6 +476,12 @@ namespace nlmech
             block.push_back({i, j});
         InPlaneTest test(pattern, 0.0, settings);
         write_elements_vtu(test.assembly(), test.state(), block, context.output.file("cell-rest.vtu"));
+        if (at_limit.size() == test.state().size())
+          {
+            write_elements_vtu(test.assembly(), at_limit, block,
+                               context.output.file("cell-stretch-limit.vtu"));
+            return;
+          }
         test.solve(plan.far_strain, settings.target_weight, 0, 0);
         write_elements_vtu(test.assembly(), test.state(), block,
                            context.output.file("cell-stretch-limit.vtu"));

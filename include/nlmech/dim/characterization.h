@@ -45,6 +45,8 @@ namespace nlmech::dim
     double       principal = 0, orthogonal = 0; // strains eps_p, eps_o or curvatures kappa_p, kappa_o
     unsigned int iterations = 0;
     double       seconds = 0, smallest_gap = 0;
+    /// The state reached (in memory only: checkpoints keep the figures above, not the state).
+    Eigen::VectorXd state;
   };
 
   /// One direction's in-plane test on a periodic cell.

@@ -141,6 +141,11 @@ namespace nlmech::dim
     /// least `cutoff`, some value of at least `cutoff` (infinity when no primitive comes that close).
     double exact_gap(const Eigen::VectorXd &q, unsigned a, unsigned b, const std::array<int, 2> &image,
                      double cutoff = std::numeric_limits<double>::infinity()) const;
+    /// Reference for tests and benchmarks, by checking every primitive pair (no pruning, O(n_a n_b)):
+    /// the smallest exact gap between body a and the image of body b (as exact_gap without a
+    /// cutoff) and the number of primitive pairs closer than `reach` (as contact_pairs for that pair).
+    std::pair<double, std::size_t> all_pairs_gap(const Eigen::VectorXd &q, unsigned a, unsigned b,
+                                                 const std::array<int, 2> &image, double reach) const;
     /// World positions of a body's (or its image's) points.
     std::vector<Eigen::Vector3d> world_points(const Eigen::VectorXd &q, unsigned body,
                                               std::array<int, 2> image = {{0, 0}}) const;
