@@ -134,7 +134,7 @@ namespace nlmech
       }
   }
 
-  void ConicQPSolver::analyse(const ConicQP &problem)
+  void ConicQPSolver::analyse(const ConicQP &problem, const ConicFactorization factorization)
   {
     const Eigen::Index                                 n = problem.G.cols();
     const Eigen::SparseMatrix<double, Eigen::RowMajor> Gr(problem.G);
@@ -197,12 +197,13 @@ namespace nlmech
     // not positive definite is reported. Small problems gain most: at 10x10 (n 357, nnz(L) 6420,
     // 22 flops per entry) a supernodal factorisation took 0.6 ms, a simplicial one 0.1 ms, because
     // the supernodal one pays per supernode for dense kernels on blocks of a few columns.
-    // NLMECH_SOCP_CHOLMOD=supernodal or simplicial forces one (for comparisons).
-    const char *forced = std::getenv("NLMECH_SOCP_CHOLMOD");
+    // ConicSettings::factorization forces one (for comparisons).
     cholesky.setMode(Eigen::CholmodSupernodalLLt);
     cholesky.analyzePattern(normal);
-    const bool simplicial =
-        forced ? std::string(forced) == "simplicial" : cholesky.cholmod().fl < 40 * cholesky.cholmod().lnz;
+    const bool simplicial  = factorization == ConicFactorization::automatic
+                                 ? cholesky.cholmod().fl < 40 * cholesky.cholmod().lnz
+                                 : factorization == ConicFactorization::simplicial;
+    analysed_factorization = factorization, analysed_simplicial = simplicial;
     if (simplicial)
       {
         cholesky.setMode(Eigen::CholmodSimplicialLLt);
@@ -339,8 +340,8 @@ namespace nlmech
         rows == pattern_rows && n == pattern_cols && problem.G.nonZeros() == pattern_nonzeros &&
         std::equal(pattern_outer.begin(), pattern_outer.end(), problem.G.outerIndexPtr()) &&
         std::equal(pattern_inner.begin(), pattern_inner.end(), problem.G.innerIndexPtr());
-    if (!same_pattern)
-      analyse(problem);
+    if (!same_pattern || settings.factorization != analysed_factorization)
+      analyse(problem, settings.factorization);
     offset.assign(m + 1, 0);
     for (std::size_t i = 0; i < m; ++i)
       offset[i + 1] = offset[i] + problem.cones[i];

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <random>
 
@@ -180,6 +181,35 @@ TEST(ConicQP, CentredStartFromAGivenPointFindsTheSameSolution)
                 EXPECT_LT(r.iterations, 50u);
               }
           }
+    }
+}
+
+TEST(ConicQP, SimplicialAndSupernodalFactorisationsGiveTheSameSolution)
+{
+  // The normal equations factorised column by column (simplicial, CHOLMOD's choice for small
+  // problems) or by supernodes: the same iterates up to round-off, so the same solution.
+  for (unsigned int seed = 1; seed <= 4; ++seed)
+    {
+      const ConicQP              p = random_problem(60, 50, 4, 300 + seed);
+      ConicSettings              settings;
+      std::array<ConicResult, 3> r;
+      std::array<bool, 3>        simplicial{};
+      for (int mode = 0; mode < 3; ++mode)
+        {
+          settings.factorization = mode == 0   ? ConicFactorization::automatic
+                                   : mode == 1 ? ConicFactorization::supernodal
+                                               : ConicFactorization::simplicial;
+          ConicQPSolver solver;
+          r[mode]          = solver.solve(p, settings);
+          simplicial[mode] = solver.simplicial();
+          ASSERT_EQ(r[mode].status, ConicStatus::solved) << "seed " << seed << ", mode " << mode;
+          EXPECT_LT(kkt_error(p, r[mode]), 1e-8);
+        }
+      EXPECT_TRUE(simplicial[0]); // 60 unknowns: far below 40 flops per entry of L
+      EXPECT_FALSE(simplicial[1]);
+      EXPECT_TRUE(simplicial[2]);
+      EXPECT_LT((r[1].x - r[2].x).norm(), 1e-8 * std::max(1.0, r[1].x.norm())) << "seed " << seed;
+      EXPECT_EQ(r[1].iterations, r[2].iterations);
     }
 }
 
