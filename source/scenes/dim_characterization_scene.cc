@@ -309,6 +309,7 @@ namespace nlmech
                       "kappa_positive,kappa_o_at_positive,kappa_negative,kappa_o_at_negative\n";
         std::vector<DirectionalLimits> stretch(plan.directions), bend(plan.directions);
         Eigen::VectorXd                limit_state; // of the in-plane sample at theta = 0, if solved here
+        Eigen::VectorXd bending_state; // of the positive bending sample at theta = 0, if solved here
         for (const auto &test : tests)
           {
             ProgressReporter progress(test + " samples", 1.0, context.comm, std::cout);
@@ -322,6 +323,9 @@ namespace nlmech
                                       if (s.test == "in-plane" && s.direction == 0 && s.level == 0 &&
                                           s.kind == SampleKind::positive)
                                         limit_state = s.outcome.state;
+                                      if (s.test == "bending" && s.direction == 0 && s.level == 0 &&
+                                          s.kind == SampleKind::positive)
+                                        bending_state = s.outcome.state;
                                       std::ostringstream label;
                                       label << s.key() << ": " << s.outcome.principal << ", "
                                             << s.outcome.orthogonal << " (" << s.outcome.iterations
@@ -432,6 +436,15 @@ namespace nlmech
           {
             write_file_atomically(context.output.file("limits.csv"), limits_csv.str());
             write_states(context, limit_state);
+            // The bent patch at its positive limit along x (only when this rank solved that sample:
+            // the checkpoint keeps figures, not states).
+            if (bending_state.size() > 0)
+              {
+                BendingTest test(pattern, plan.patch_elements, 0.0, settings);
+                if (bending_state.size() == test.state().size())
+                  write_elements_vtu(test.assembly(), bending_state, {{{0, 0}}},
+                                     context.output.file("patch-bending-limit.vtu"));
+              }
             const std::string command =
                 std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR + "/contrib/plot/dim_limits.py' '" +
                 context.output.file("limits.csv") + "' '" + context.output.file("limits-stretch.png") +
