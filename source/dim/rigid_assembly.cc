@@ -587,12 +587,7 @@ namespace nlmech::dim
             H(i, j) = e.dx(i).dx(j);
         H = 0.5 * (H + H.transpose()).eval();
         if (contact.project_hessians)
-          {
-            // Project to positive semi-definite (IPC): clamp negative eigenvalues to zero.
-            Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> eig(H);
-            const auto lambda = eig.eigenvalues().cwiseMax(0.0);
-            H                 = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
-          }
+          project_to_positive_semidefinite(H); // IPC: negative eigenvalues clamped to zero
         for (unsigned i = 0; i < 15; ++i)
           for (unsigned j = 0; j < 15; ++j)
             if (dofs[i] >= 0 && dofs[j] >= 0 && H(i, j) != 0)

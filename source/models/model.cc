@@ -116,6 +116,16 @@ namespace nlmech
     return h;
   }
 
+  Eigen::SparseMatrix<double> Model::projected_hessian(const Eigen::VectorXd &x) const
+  {
+    Triplets triplets;
+    for (const auto &t : energy_terms)
+      t->add_projected_hessian(x, triplets);
+    Eigen::SparseMatrix<double> h(n, n);
+    h.setFromTriplets(triplets.begin(), triplets.end());
+    return h;
+  }
+
   Eigen::VectorXd Model::gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,
                                                      const unsigned int                  k) const
   {

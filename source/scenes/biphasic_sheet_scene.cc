@@ -127,6 +127,10 @@ namespace nlmech
         prm.declare_entry("Frames", "40", Patterns::Integer(0), "VTU frames of the first scheme [-].");
         prm.declare_entry("Newton tolerance", "1e-8", Patterns::Double(0),
                           "Relative gradient norm of the implicit steps [-].");
+        prm.declare_entry("Newton Hessian", "projected", Patterns::Selection("projected|exact"),
+                          "projected: every element's Hessian block is projected to positive "
+                          "semi-definite (robust when the sheet wrinkles under compression); exact: "
+                          "the true Hessian, shifted by a multiple of the identity where indefinite.");
         prm.declare_entry("Projection tolerance", "1e-9", Patterns::Double(0),
                           "Residuals and gap of the interior-point projection (relative) [-].");
         prm.leave_subsection();
@@ -190,6 +194,7 @@ namespace nlmech
         end_time                            = prm.get_double("End time");
         frames                              = unsigned(prm.get_integer("Frames"));
         settings.newton_tolerance           = prm.get_double("Newton tolerance");
+        settings.project_element_hessians   = prm.get("Newton Hessian") == "projected";
         cone_settings.feasibility_tolerance = cone_settings.gap_tolerance =
             prm.get_double("Projection tolerance");
         AssertThrow(settings.time_step > 0 && end_time >= settings.time_step,

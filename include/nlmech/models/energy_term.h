@@ -6,6 +6,7 @@
 
 #include <deal.II/base/parallel.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Sparse>
 #include <Sacado.hpp>
 #include <Sacado_Tay_Taylor.hpp>
@@ -20,6 +21,18 @@ namespace nlmech
 {
   using Triplets = std::vector<Eigen::Triplet<double>>;
 
+  /// Replaces a symmetric matrix by its nearest positive semi-definite one in the Frobenius norm
+  /// (eigenvalues below zero set to zero); unchanged when it already is.
+  template <int N>
+  void project_to_positive_semidefinite(Eigen::Matrix<double, N, N> &block)
+  {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(0.5 * (block + block.transpose()));
+    if (eig.eigenvalues().minCoeff() >= 0)
+      return;
+    block =
+        eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
+  }
+
   class EnergyTerm
   {
   public:
@@ -31,6 +44,11 @@ namespace nlmech
     virtual void add_gradient(const Eigen::VectorXd &x, Eigen::VectorXd &g) const = 0;
     /// H += d2E/dx2, as (row, column, value) triplets (duplicates are summed).
     virtual void add_hessian(const Eigen::VectorXd &x, Triplets &h) const = 0;
+    /// H += the Hessian with every element's block projected to positive semi-definite (negative
+    /// eigenvalues clamped to zero, as IPC and PolyFEM do), so that a sum of such terms plus a mass
+    /// term is positive definite without a global shift. Default: the Hessian itself (terms that are
+    /// convex, or not sums of small element blocks).
+    virtual void add_projected_hessian(const Eigen::VectorXd &x, Triplets &h) const { add_hessian(x, h); }
 
     /// out += H(x) v (default: through the Hessian).
     virtual void add_hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
@@ -115,7 +133,11 @@ namespace nlmech
         }
     }
 
-    void add_hessian(const Eigen::VectorXd &x, Triplets &h) const override { element_hessians(x, h); }
+    void add_hessian(const Eigen::VectorXd &x, Triplets &h) const override { element_hessians(x, h, false); }
+    void add_projected_hessian(const Eigen::VectorXd &x, Triplets &h) const override
+    {
+      element_hessians(x, h, true);
+    }
 
     /// H(x) v from the gradient of the directional derivative phi = dE(x + eps v)/deps (cost ~2N).
     void add_hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
@@ -219,8 +241,9 @@ namespace nlmech
 
   private:
     /// Every element's N x N Hessian by forward-over-forward AD, on deal.II's threads (each
-    /// element writes its own N^2 triplets).
-    void element_hessians(const Eigen::VectorXd &x, Triplets &h) const
+    /// element writes its own N^2 triplets); with `project`, each block with a negative eigenvalue
+    /// is replaced by V max(Lambda, 0) V^T.
+    void element_hessians(const Eigen::VectorXd &x, Triplets &h, const bool project) const
     {
       const std::size_t n_elem = element.n_elements(), first = h.size();
       h.resize(first + n_elem * N * N);
@@ -231,11 +254,17 @@ namespace nlmech
             std::array<Hessian, N> local;
             for (std::size_t i = 0; i < N; ++i)
               local[i] = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
-            const Hessian energy = element.energy(local, e);
+            const Hessian               energy = element.energy(local, e);
+            Eigen::Matrix<double, N, N> block;
+            for (std::size_t i = 0; i < N; ++i)
+              for (std::size_t j = 0; j < N; ++j)
+                block(i, j) = energy.dx(i).dx(j);
+            if (project)
+              project_to_positive_semidefinite(block);
             for (std::size_t i = 0; i < N; ++i)
               for (std::size_t j = 0; j < N; ++j)
                 h[first + e * N * N + i * N + j] =
-                    Eigen::Triplet<double>(int(dofs[i]), int(dofs[j]), energy.dx(i).dx(j));
+                    Eigen::Triplet<double>(int(dofs[i]), int(dofs[j]), block(i, j));
           }
       };
       if (n_elem < 256)

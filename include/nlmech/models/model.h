@@ -33,6 +33,9 @@ namespace nlmech
     double                      energy(const Eigen::VectorXd &x) const;
     Eigen::VectorXd             gradient(const Eigen::VectorXd &x) const;
     Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd &x) const;
+    /// The Hessian with each term's element blocks projected to positive semi-definite
+    /// (EnergyTerm::add_projected_hessian).
+    Eigen::SparseMatrix<double> projected_hessian(const Eigen::VectorXd &x) const;
     /// H(x) v, and d(H(x) v)/dx (third derivatives along v), for stiffness-proportional damping.
     Eigen::VectorXd hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v) const;
     Eigen::SparseMatrix<double> directional_hessian(const Eigen::VectorXd &x, const Eigen::VectorXd &v) const;

@@ -203,9 +203,10 @@ namespace nlmech
     step.add_term(std::make_shared<InertiaTerm>(model.model.lumped_mass(), x_hat, dt_effective, force));
     Eigen::VectorXd y = start;
     NewtonSettings  ns;
-    ns.relative_tolerance = settings.newton_tolerance;
-    ns.max_iterations     = 100;
-    const auto r          = minimize_with_newton(step, y, ns);
+    ns.relative_tolerance       = settings.newton_tolerance;
+    ns.max_iterations           = 100;
+    ns.project_element_hessians = settings.project_element_hessians;
+    const auto r                = minimize_with_newton(step, y, ns);
     stats.newton_iterations += r.iterations;
     stats.newton_seconds += since(started);
     AssertThrow(y.allFinite(), dealii::ExcMessage("Cloth: the implicit step produced non-finite positions."));

@@ -118,7 +118,16 @@ namespace nlmech
         };
         const double shift_floor = 1e-8 * (diagonal_scale > 0 ? diagonal_scale : 1.0);
         double       shift       = last_shift / 10 > shift_floor ? last_shift / 10 : 0;
-        for (int attempt = 0;; ++attempt)
+        bool         projected   = false;
+        if (settings.project_element_hessians)
+          {
+            // The exact Hessian where it is positive definite (quadratic convergence near a stable
+            // minimum), else the projected one (a good model far from it, no global shift).
+            shift = 0;
+            if (!try_solve(Hf, 0))
+              Hf = free_matrix(model.projected_hessian(x)), projected = true;
+          }
+        for (int attempt = 0; !settings.project_element_hessians || projected; ++attempt)
           {
             if (try_solve(Hf, shift))
               break;
@@ -177,10 +186,10 @@ namespace nlmech
             dx.cwiseAbs().maxCoeff(&largest);
             std::fprintf(
                 stderr,
-                "newton it %3u energy %.12e |g| %.3e safe %.3e alpha %.3e shift %.2e |dx| %.3e (largest: "
+                "newton it %3u energy %.12e |g| %.3e safe %.3e alpha %.3e shift %.2e%s |dx| %.3e (largest: "
                 "unknown %ld)\n",
-                result.iterations, energy, g.norm(), safe, accepted ? alpha : 0.0, shift, dx.norm(),
-                long(largest));
+                result.iterations, energy, g.norm(), safe, accepted ? alpha : 0.0, shift,
+                projected ? " (projected)" : "", dx.norm(), long(largest));
           }
         AssertThrow(accepted, dealii::ExcMessage("Newton: the line search found no decrease (gradient norm " +
                                                  std::to_string(g.norm()) + ")."));

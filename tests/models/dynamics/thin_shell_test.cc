@@ -3,6 +3,7 @@
 #include <nlmech/mesh/gmsh_mesh.h>
 #include <nlmech/models/dynamics/thin_shell.h>
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -79,6 +80,39 @@ TEST(ThinShell, HessianVectorProductAndDirectionalHessianMatchReferences)
       Eigen::MatrixXd(shell.model.hessian(x + eps * v) - shell.model.hessian(x - eps * v)) / (2 * eps);
   const Eigen::MatrixXd ad = Eigen::MatrixXd(shell.model.directional_hessian(x, v));
   EXPECT_LT((fd - ad).lpNorm<Eigen::Infinity>(), 1e-6 * ad.lpNorm<Eigen::Infinity>());
+}
+
+/// The projected Hessian (Newton's option for wrinkling sheets): on a compressed, crumpled sheet
+/// every element block is positive semi-definite, so is their sum (dense eigenvalues), and
+/// the projection only adds a positive semi-definite part to the exact Hessian. Elements already
+/// convex keep their exact blocks: a small uniform stretch changes nothing.
+TEST(ThinShell, ProjectedHessiansArePositiveSemidefiniteAndExactWhereConvex)
+{
+  Eigen::Matrix<double, 2, 2> small;
+  small << 1, 2, 2, 1; // eigenvalues 3 and -1 along (1, 1) and (1, -1)
+  project_to_positive_semidefinite(small);
+  EXPECT_NEAR(small(0, 0), 1.5, 1e-14);
+  EXPECT_NEAR(small(0, 1), 1.5, 1e-14);
+
+  const RawSimplexMesh<3> mesh  = sheet(0.25);
+  const ShellModel        shell = make_shell_model(mesh, ShellMaterial());
+  std::srand(7);
+  Eigen::VectorXd x =
+      0.6 * shell.rest_positions + 0.05 * Eigen::VectorXd::Random(shell.rest_positions.size());
+  const Eigen::MatrixXd H      = Eigen::MatrixXd(shell.model.hessian(x));
+  const Eigen::MatrixXd P      = Eigen::MatrixXd(shell.model.projected_hessian(x));
+  auto                  lowest = [](const Eigen::MatrixXd &A) {
+    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (A + A.transpose())).eigenvalues().minCoeff();
+  };
+  const double scale = H.lpNorm<Eigen::Infinity>();
+  EXPECT_LT(lowest(H), -1e-3 * scale); // the crumpled sheet's exact Hessian is indefinite
+  EXPECT_GT(lowest(P), -1e-12 * scale);
+  EXPECT_GT(lowest(P - H), -1e-12 * scale);
+  // Uniform stretch by 1 %, flat: every membrane block is convex, hinges are at their rest angle.
+  const Eigen::VectorXd stretched = 1.01 * shell.rest_positions;
+  EXPECT_LT(Eigen::MatrixXd(shell.model.projected_hessian(stretched) - shell.model.hessian(stretched))
+                .lpNorm<Eigen::Infinity>(),
+            1e-12 * Eigen::MatrixXd(shell.model.hessian(stretched)).lpNorm<Eigen::Infinity>());
 }
 
 TEST(ThinShell, RigidMotionCostsNothing)

@@ -46,6 +46,9 @@ namespace nlmech
     bool                  ground        = false;
     double                ground_height = -1, ground_stiffness = 0;
     double                newton_tolerance = 1e-8; // relative gradient
+    /// Implicit steps' Newton on element Hessians projected to positive semi-definite (true), or on
+    /// the exact Hessian with a global diagonal shift where it is indefinite (false).
+    bool project_element_hessians = true;
   };
 
   struct ClothStepStatistics

@@ -3,8 +3,9 @@
 // The Hessian of the free unknowns is factorised by CHOLMOD (supernodal Cholesky); where it is not
 // positive definite a diagonal shift is added, starting from a tenth of the last one that worked
 // (so a run of indefinite Hessians does not pay for the whole search each time; the shift falls
-// back to zero as the Hessian turns definite near a stable minimum). Steps are capped by the
-// Model's safe step.
+// back to zero as the Hessian turns definite near a stable minimum), or its element blocks are
+// projected to positive semi-definite first (NewtonSettings::project_element_hessians). Steps are
+// capped by the Model's safe step.
 
 #include <nlmech/models/model.h>
 
@@ -29,6 +30,13 @@ namespace nlmech
     /// falls by ten per unhindered iteration). Without it, a Hessian that is singular along free motions
     /// (slack elements in contact problems) gives huge steps that the collision bound cuts to crawling.
     bool grow_shift_on_short_steps = false;
+    /// Where the exact Hessian is not positive definite, use the one with every element block
+    /// projected to positive semi-definite (Model::projected_hessian) instead of shifting it by a
+    /// multiple of the identity. For problems with many locally non-convex elements (a wrinkling
+    /// sheet under compression), where one global shift large enough for the worst element damps
+    /// all the others too and Newton crawls. The exact Hessian is tried first in every iteration,
+    /// so convergence near a stable minimum stays quadratic; the shift remains as a fallback.
+    bool project_element_hessians = false;
     /// Per-unknown weights of the diagonal shift (empty: identity). Unknowns of different kinds
     /// (lengths, angles, strains) need a shift in consistent units: the squared length of motion a
     /// unit change of each causes.
