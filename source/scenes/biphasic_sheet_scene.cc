@@ -127,6 +127,9 @@ namespace nlmech
         prm.declare_entry("Frames", "40", Patterns::Integer(0), "VTU frames of the first scheme [-].");
         prm.declare_entry("Newton tolerance", "1e-8", Patterns::Double(0),
                           "Relative gradient norm of the implicit steps [-].");
+        prm.declare_entry("Newton velocity tolerance", "1e-4", Patterns::Double(0),
+                          "Also converged when a full Newton step moves no vertex faster than this "
+                          "(|dx|_inf / time step); 0: the gradient criterion only [m/s].");
         prm.declare_entry("Newton Hessian", "projected", Patterns::Selection("projected|exact"),
                           "projected: every element's Hessian block is projected to positive "
                           "semi-definite (robust when the sheet wrinkles under compression); exact: "
@@ -195,6 +198,7 @@ namespace nlmech
         frames                              = unsigned(prm.get_integer("Frames"));
         settings.newton_tolerance           = prm.get_double("Newton tolerance");
         settings.project_element_hessians   = prm.get("Newton Hessian") == "projected";
+        settings.newton_velocity_tolerance  = prm.get_double("Newton velocity tolerance");
         cone_settings.feasibility_tolerance = cone_settings.gap_tolerance =
             prm.get_double("Projection tolerance");
         AssertThrow(settings.time_step > 0 && end_time >= settings.time_step,

@@ -206,6 +206,7 @@ namespace nlmech
     ns.relative_tolerance       = settings.newton_tolerance;
     ns.max_iterations           = 100;
     ns.project_element_hessians = settings.project_element_hessians;
+    ns.step_tolerance           = settings.newton_velocity_tolerance * dt_effective;
     const auto r                = minimize_with_newton(step, y, ns);
     stats.newton_iterations += r.iterations;
     stats.newton_seconds += since(started);

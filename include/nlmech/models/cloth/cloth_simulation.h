@@ -46,6 +46,10 @@ namespace nlmech
     bool                  ground        = false;
     double                ground_height = -1, ground_stiffness = 0;
     double                newton_tolerance = 1e-8; // relative gradient
+    /// Also converged when a full Newton step moves no vertex faster than this [m/s] (|dx|_inf / h,
+    /// IPC's criterion): wrinkling fine sheets approach their minimum along nearly flat directions
+    /// where the gradient falls slowly. 0: gradient only.
+    double newton_velocity_tolerance = 1e-4;
     /// Implicit steps' Newton on element Hessians projected to positive semi-definite (true), or on
     /// the exact Hessian with a global diagonal shift where it is indefinite (false).
     bool project_element_hessians = true;
