@@ -152,10 +152,11 @@ namespace nlmech
         Eigen::VectorXd dx = Eigen::VectorXd::Zero(n);
         for (std::size_t k = 0; k < m; ++k)
           dx[free_dofs[k]] = dx_free[k];
-        const double safe     = model.max_safe_step(x, dx); // 1 when the full step is safe
-        double       alpha    = safe < 1.0 ? 0.9 * safe : 1.0;
-        const double slope    = g.dot(dx_free);
-        bool         accepted = false;
+        const double safe         = model.max_safe_step(x, dx); // 1 when the full step is safe
+        double       alpha        = safe < 1.0 ? 0.9 * safe : 1.0;
+        const double slope        = g.dot(dx_free);
+        const double start_energy = energy;
+        bool         accepted     = false;
         for (unsigned int ls = 0; ls < settings.max_line_search; ++ls, alpha *= 0.5)
           {
             const Eigen::VectorXd trial = x + alpha * dx;
@@ -175,6 +176,25 @@ namespace nlmech
                 if (settings.on_accepted)
                   settings.on_accepted(x);
                 break;
+              }
+          }
+        // A full projected step that the energy accepts may be too short: along directions of
+        // negative curvature the projection makes the model stiffer than the energy. Extend it
+        // (doubling) while the energy keeps falling by Armijo's rule.
+        if (accepted && projected && alpha == 1.0)
+          {
+            const Eigen::VectorXd base = x - dx;
+            for (double t = 2; t <= 64; t *= 2)
+              {
+                const Eigen::VectorXd longer = base + t * dx;
+                if (model.max_safe_step(base, t * dx) < 1.0 || !model.is_valid(longer))
+                  break;
+                const double longer_energy = model.energy(longer);
+                if (!(longer_energy < energy && longer_energy <= start_energy + 1e-4 * t * slope))
+                  break;
+                x = longer, energy = longer_energy, alpha = t;
+                if (settings.on_accepted)
+                  settings.on_accepted(x);
               }
           }
         // No decrease at round-off level: the gradient is as small as double precision allows.
