@@ -130,6 +130,10 @@ namespace nlmech
         prm.declare_entry("Newton velocity tolerance", "1e-4", Patterns::Double(0),
                           "Also converged when a full Newton step moves no vertex faster than this "
                           "(|dx|_inf / time step); 0: the gradient criterion only [m/s].");
+        prm.declare_entry("Area barrier", "0.1", Patterns::Double(0, 0.99),
+                          "Triangles crushed below this fraction of their rest area meet a log "
+                          "barrier (St.Venant-Kirchhoff alone lets a soft sheet collapse triangles, "
+                          "which stalls Newton); 0: none [-].");
         prm.declare_entry("Newton Hessian", "projected", Patterns::Selection("projected|exact"),
                           "projected: every element's Hessian block is projected to positive "
                           "semi-definite (robust when the sheet wrinkles under compression); exact: "
@@ -199,6 +203,7 @@ namespace nlmech
         settings.newton_tolerance           = prm.get_double("Newton tolerance");
         settings.project_element_hessians   = prm.get("Newton Hessian") == "projected";
         settings.newton_velocity_tolerance  = prm.get_double("Newton velocity tolerance");
+        settings.area_barrier               = prm.get_double("Area barrier");
         cone_settings.feasibility_tolerance = cone_settings.gap_tolerance =
             prm.get_double("Projection tolerance");
         AssertThrow(settings.time_step > 0 && end_time >= settings.time_step,

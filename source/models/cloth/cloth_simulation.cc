@@ -5,6 +5,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
 
 namespace nlmech
 {
@@ -14,6 +17,45 @@ namespace nlmech
     {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
+
+    /// A guard against crushed triangles, inactive for ordinary states: per triangle with area
+    /// ratio J = area / rest area below J^ it adds w b(J), b(J) = -(J - J^)^2 ln(J / J^) (IPC's
+    /// clamped log barrier, C2 at J^), w = mu t A. St.Venant-Kirchhoff alone charges only a finite
+    /// energy for collapsing a triangle; a fine, soft sheet collapses some, and at zero area the
+    /// hinges' normals (and so the bending energy) lose their derivatives and Newton stalls.
+    struct AreaBarrierElements
+    {
+      static constexpr std::size_t             n_dofs = 9;
+      std::vector<std::array<unsigned int, 3>> triangles;
+      std::vector<double>                      area, weight;
+      double                                   threshold = 0.1;
+
+      std::size_t                n_elements() const { return triangles.size(); }
+      std::array<std::size_t, 9> dofs(std::size_t e) const
+      {
+        std::array<std::size_t, 9> d;
+        for (int v = 0; v < 3; ++v)
+          for (int i = 0; i < 3; ++i)
+            d[3 * v + i] = 3 * triangles[e][v] + i;
+        return d;
+      }
+      template <typename S>
+      S energy(const std::array<S, 9> &x, std::size_t e) const
+      {
+        using std::log;
+        using std::sqrt;
+        S u[3], w[3];
+        for (int i = 0; i < 3; ++i)
+          u[i] = x[3 + i] - x[i], w[i] = x[6 + i] - x[i];
+        const S n0 = u[1] * w[2] - u[2] * w[1], n1 = u[2] * w[0] - u[0] * w[2],
+                n2 = u[0] * w[1] - u[1] * w[0];
+        const S J  = 0.5 * sqrt(n0 * n0 + n1 * n1 + n2 * n2) / area[e];
+        if (!(Sacado::ScalarValue<S>::eval(J) < threshold))
+          return S(0.0);
+        const S d = J - threshold;
+        return -weight[e] * d * d * log(J / threshold);
+      }
+    };
 
     /// 1/(2 dt^2) |x - x_hat|_M^2 - f.x: inertia of an implicit step and the external forces.
     class InertiaTerm : public EnergyTerm
@@ -175,6 +217,20 @@ namespace nlmech
       }
     if (settings.sphere || settings.ground)
       model.model.add_term(std::make_shared<ContactTerm>(settings));
+    if (settings.area_barrier > 0)
+      {
+        AssertThrow(settings.area_barrier < 1,
+                    dealii::ExcMessage("Cloth: the area barrier is a fraction of the rest area, below 1."));
+        const auto         &membrane = model.membrane->elements();
+        AreaBarrierElements guard;
+        guard.triangles = membrane.triangles;
+        guard.area      = membrane.area;
+        guard.threshold = settings.area_barrier;
+        for (const double a : membrane.area)
+          guard.weight.push_back(membrane.mu * membrane.thickness * a);
+        model.model.add_term(
+            std::make_shared<ElementEnergyTerm<AreaBarrierElements>>("area barrier", std::move(guard)));
+      }
     v = Eigen::VectorXd::Zero(x.size());
     force.resize(x.size());
     for (Eigen::Index i = 0; i < x.size(); ++i)
@@ -207,7 +263,44 @@ namespace nlmech
     ns.max_iterations           = 100;
     ns.project_element_hessians = settings.project_element_hessians;
     ns.step_tolerance           = settings.newton_velocity_tolerance * dt_effective;
-    const auto r                = minimize_with_newton(step, y, ns);
+    NewtonResult r;
+    try
+      {
+        r = minimize_with_newton(step, y, ns);
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        // Say where the sheet was when Newton gave up: the sharpest fold (a hinge near 180 degrees
+        // is a sheet folded onto itself) and the most compressed triangle.
+        double      sharpest = 0;
+        const auto &hinges   = model.bending->elements();
+        for (std::size_t h = 0; h < hinges.n_elements(); ++h)
+          {
+            std::array<double, 12> local;
+            const auto             dofs = hinges.dofs(h);
+            for (std::size_t i = 0; i < 12; ++i)
+              local[i] = y[dofs[i]];
+            sharpest = std::max(sharpest, std::abs(HingeElements::dihedral_angle(local)));
+          }
+        double      smallest = std::numeric_limits<double>::infinity();
+        const auto &membrane = model.membrane->elements();
+        for (std::size_t k = 0; k < membrane.n_elements(); ++k)
+          {
+            const auto           &v = membrane.triangles[k];
+            const Eigen::Vector3d a = y.segment<3>(3 * v[0]), b = y.segment<3>(3 * v[1]),
+                                  c = y.segment<3>(3 * v[2]);
+            smallest = std::min(smallest, 0.5 * (b - a).cross(c - a).norm() / membrane.area[k]);
+          }
+        std::ostringstream info;
+        e.print_info(info);
+        char where[200];
+        std::snprintf(where, sizeof where,
+                      " At the last accepted state the sharpest fold is %.1f degrees and the most "
+                      "compressed triangle keeps %.3f of its rest area.",
+                      sharpest * 180 / M_PI, smallest);
+        AssertThrow(false, dealii::ExcMessage("Cloth: the implicit step from t = " + std::to_string(t) +
+                                              " s did not converge. " + info.str() + where));
+      }
     stats.newton_iterations += r.iterations;
     stats.newton_seconds += since(started);
     AssertThrow(y.allFinite(), dealii::ExcMessage("Cloth: the implicit step produced non-finite positions."));

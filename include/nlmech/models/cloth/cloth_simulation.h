@@ -50,6 +50,9 @@ namespace nlmech
     /// IPC's criterion): wrinkling fine sheets approach their minimum along nearly flat directions
     /// where the gradient falls slowly. 0: gradient only.
     double newton_velocity_tolerance = 1e-4;
+    /// Triangles crushed below this fraction of their rest area meet a log barrier (0: none); see
+    /// AreaBarrierElements in cloth_simulation.cc. Inactive in ordinary states.
+    double area_barrier = 0.1;
     /// Implicit steps' Newton on element Hessians projected to positive semi-definite (true), or on
     /// the exact Hessian with a global diagonal shift where it is indefinite (false).
     bool project_element_hessians = true;
