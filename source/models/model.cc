@@ -106,11 +106,11 @@ namespace nlmech
     return g;
   }
 
-  Eigen::SparseMatrix<double> Model::hessian(const Eigen::VectorXd &x) const
+  Eigen::SparseMatrix<double> Model::hessian(const Eigen::VectorXd &x, const bool projected) const
   {
     Triplets triplets;
     for (const auto &t : energy_terms)
-      t->add_hessian(x, triplets);
+      projected ? t->add_projected_hessian(x, triplets) : t->add_hessian(x, triplets);
     Eigen::SparseMatrix<double> h(n, n);
     h.setFromTriplets(triplets.begin(), triplets.end());
     return h;
@@ -118,12 +118,7 @@ namespace nlmech
 
   Eigen::SparseMatrix<double> Model::projected_hessian(const Eigen::VectorXd &x) const
   {
-    Triplets triplets;
-    for (const auto &t : energy_terms)
-      t->add_projected_hessian(x, triplets);
-    Eigen::SparseMatrix<double> h(n, n);
-    h.setFromTriplets(triplets.begin(), triplets.end());
-    return h;
+    return hessian(x, true);
   }
 
   Eigen::VectorXd Model::gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,

@@ -32,7 +32,7 @@ namespace nlmech
 
     double                      energy(const Eigen::VectorXd &x) const;
     Eigen::VectorXd             gradient(const Eigen::VectorXd &x) const;
-    Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd &x) const;
+    Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd &x, bool projected = false) const;
     /// The Hessian with each term's element blocks projected to positive semi-definite
     /// (EnergyTerm::add_projected_hessian).
     Eigen::SparseMatrix<double> projected_hessian(const Eigen::VectorXd &x) const;

@@ -23,22 +23,11 @@ namespace nlmech
     /// clamped log barrier, C2 at J^), w = mu t A. St.Venant-Kirchhoff alone charges only a finite
     /// energy for collapsing a triangle; a fine, soft sheet collapses some, and at zero area the
     /// hinges' normals (and so the bending energy) lose their derivatives and Newton stalls.
-    struct AreaBarrierElements
+    struct AreaBarrierElements : MembraneElements // its triangles, rest areas and dofs
     {
-      static constexpr std::size_t             n_dofs = 9;
-      std::vector<std::array<unsigned int, 3>> triangles;
-      std::vector<double>                      area, weight;
-      double                                   threshold = 0.1;
+      std::vector<double> weight;
+      double              threshold = 0.1;
 
-      std::size_t                n_elements() const { return triangles.size(); }
-      std::array<std::size_t, 9> dofs(std::size_t e) const
-      {
-        std::array<std::size_t, 9> d;
-        for (int v = 0; v < 3; ++v)
-          for (int i = 0; i < 3; ++i)
-            d[3 * v + i] = 3 * triangles[e][v] + i;
-        return d;
-      }
       template <typename S>
       S energy(const std::array<S, 9> &x, std::size_t e) const
       {
@@ -223,9 +212,8 @@ namespace nlmech
                     dealii::ExcMessage("Cloth: the area barrier is a fraction of the rest area, below 1."));
         const auto         &membrane = model.membrane->elements();
         AreaBarrierElements guard;
-        guard.triangles = membrane.triangles;
-        guard.area      = membrane.area;
-        guard.threshold = settings.area_barrier;
+        static_cast<MembraneElements &>(guard) = membrane;
+        guard.threshold                        = settings.area_barrier;
         for (const double a : membrane.area)
           guard.weight.push_back(membrane.mu * membrane.thickness * a);
         model.model.add_term(
