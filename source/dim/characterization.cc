@@ -146,6 +146,19 @@ namespace nlmech::dim
       gravity_forces.emplace_back(0, 0, -patch.assembly->shape(b).mass * settings.gravity);
   }
 
+  double BendingTest::gravity_load() const
+  {
+    const auto [dp, d_o] = principal_frame(angle);
+    double along = 0, across = 0;
+    for (unsigned b = 0; b < patch.assembly->n_bodies(); ++b)
+      {
+        const Eigen::Vector2d x(patch.q[6 * b], patch.q[6 * b + 1]);
+        const double          weight = -gravity_forces[b].z();
+        along += weight * std::pow(dp.dot(x), 2), across += weight * std::pow(d_o.dot(x), 2);
+      }
+    return std::max(along, across);
+  }
+
   TestOutcome BendingTest::solve(const double target_p, const double weight_p, const double target_o,
                                  const double weight_o, const bool continue_from_last)
   {
@@ -376,6 +389,24 @@ namespace nlmech::dim
     run_phase(phase2);
     phase1.insert(phase1.end(), phase2.begin(), phase2.end());
     return phase1;
+  }
+
+  double raise_bending_weights(const Pattern &pattern, const SamplingPlan &plan,
+                               NativeSolveSettings &settings)
+  {
+    double load = 0;
+    for (unsigned d = 0; d < std::max(plan.directions, 1u); ++d)
+      load = std::max(
+          load, BendingTest(pattern, plan.patch_elements, M_PI * d / std::max(plan.directions, 1u), settings)
+                    .gravity_load());
+    // 2 G / w at most 0.5 % of the far curvature: the measured shortfall is up to about 1.5 times
+    // 2 G / w (the load grows as the patch bends), so within 1 %.
+    const double needed = 2 * load / (0.005 * plan.far_curvature);
+    if (!(needed > settings.target_weight))
+      return 1;
+    const double factor = needed / settings.target_weight;
+    settings.target_weight *= factor, settings.hold_weight *= factor;
+    return factor;
   }
 
   std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples,

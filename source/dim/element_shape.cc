@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numeric>
 
@@ -56,6 +57,35 @@ namespace nlmech::dim
           worst_chord =
               std::max(worst_chord, (curve(0.5 * (t0 + t1)) - 0.5 * (curve(t0) + curve(t1))).norm());
         }
+      // A rigid element must not intersect itself: centreline points farther apart along the
+      // curve than a half turn of radius r (pi r, the tightest bend a tube of radius r allows)
+      // must stay more than 2 r apart. Checked on a fourfold finer sampling of the curve.
+      {
+        const unsigned int           M = 4 * N;
+        std::vector<Eigen::Vector3d> fine(M);
+        std::vector<double>          arc(M + 1, 0.0);
+        for (unsigned int i = 0; i < M; ++i)
+          fine[i] = curve(2 * M_PI * i / M);
+        for (unsigned int i = 0; i < M; ++i)
+          arc[i + 1] = arc[i] + (fine[(i + 1) % M] - fine[i]).norm();
+        double closest = std::numeric_limits<double>::infinity(), along = 0;
+        for (unsigned int i = 0; i < M; ++i)
+          for (unsigned int j = i + 1; j < M; ++j)
+            {
+              const double s = std::min(arc[j] - arc[i], arc[M] - (arc[j] - arc[i]));
+              if (s <= M_PI * r)
+                continue;
+              const double d = (fine[i] - fine[j]).norm();
+              if (d < closest)
+                closest = d, along = s;
+            }
+        AssertThrow(closest > 2 * r,
+                    dealii::ExcMessage(name + ": the tube of radius " + std::to_string(r) +
+                                       " mm intersects itself (centreline points " + std::to_string(along) +
+                                       " mm apart along the curve are " + std::to_string(closest) +
+                                       " mm apart in space, less than 2 r); use a thinner tube or a "
+                                       "larger winding."));
+      }
       ElementShape shape;
       shape.name = std::move(name);
       add_closed_polyline(shape, points, r);

@@ -115,3 +115,39 @@ TEST(InPlaneTest, NoAcceptedStateNorAnyStateBetweenThemIntersects)
   EXPECT_GT(states.size(), 5u);
   EXPECT_GT(smallest, 0.0);
 }
+
+TEST(BendingTest, GravityHoldsAWeakDriveBackByAboutTwoGOverWAndTheRaisedWeightsDoNot)
+{
+  // A 7-element threefold patch bent to 0.05 /mm (well inside its limit of about 0.2 /mm, so no
+  // contact stops it): what holds the curvature back is gravity alone, sum m g x^2 = G per unit
+  // of A' = kappa / 2, against the drive w (A' - A'_target), a shortfall of about 2 G / w.
+  Pattern             pattern = threefold_pattern({}, 1.24e-6);
+  NativeSolveSettings settings;
+  settings.contact.dhat = 0.01, settings.contact.kappa = 0.01, settings.max_iterations = 3000;
+  const double target = 0.05;
+  double       load   = 0;
+  {
+    BendingTest  test(pattern, 7, 0.0, settings);
+    const double w         = 0.01; // the scene's default target weight
+    load                   = test.gravity_load();
+    const auto   o         = test.solve(target, w, 0, 0);
+    const double shortfall = target - o.principal, predicted = 2 * load / w;
+    std::printf("w %.3f: kappa %.5f, shortfall %.5f, 2 G / w %.5f\n", w, o.principal, shortfall, predicted);
+    EXPECT_GT(shortfall, 0.7 * predicted);
+    EXPECT_LT(shortfall, 2.0 * predicted);
+  }
+  SamplingPlan plan;
+  plan.directions = 2, plan.patch_elements = 7, plan.far_curvature = 0.5;
+  NativeSolveSettings raised = settings;
+  raised.target_weight = 0.01, raised.hold_weight = 1;
+  const double factor = raise_bending_weights(pattern, plan, raised);
+  EXPECT_GT(factor, 1.0);
+  EXPECT_NEAR(raised.hold_weight / raised.target_weight, 100.0, 1e-9);
+  EXPECT_GE(raised.target_weight, 2 * load / (0.005 * plan.far_curvature) * (1 - 1e-12));
+  BendingTest  test(pattern, 7, 0.0, settings);
+  const auto   o         = test.solve(target, raised.target_weight, 0, 0);
+  const double shortfall = target - o.principal;
+  std::printf("raised w %.4f (x%.2f): kappa %.5f, shortfall %.5f\n", raised.target_weight, factor,
+              o.principal, shortfall);
+  EXPECT_LT(std::abs(shortfall), 0.01 * plan.far_curvature);
+}

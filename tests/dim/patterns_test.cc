@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <string>
 
 using namespace nlmech::dim;
 
@@ -60,4 +61,27 @@ TEST(Patterns, HexagonalPatchesHave19To61ElementsAndALinkedCentre)
           std::printf("%-20s 19-patch: smallest gap %.3f mm, %zu links\n", pattern.name.c_str(), gap.gap,
                       links.pairs.size());
       }
+}
+
+TEST(Patterns, TorusKnotTubesThatIntersectThemselvesAreRejected)
+{
+  // The default (3,4) knot (R 4, a 1.5): its strands pass each other 2.41 mm apart (centrelines,
+  // sampled independently in Python), so tubes up to r ~ 1.2 mm clear themselves and thicker ones
+  // do not.
+  const double density = 1.24e-6;
+  EXPECT_NO_THROW(torus_knot(3, 4, 4, 1.5, 0.5, 192, density));
+  EXPECT_NO_THROW(torus_knot(3, 4, 4, 1.5, 1.1, 192, density));
+  try
+    {
+      torus_knot(3, 4, 4, 1.5, 1.3, 192, density);
+      ADD_FAILURE() << "a self-intersecting knot tube was accepted";
+    }
+  catch (const std::exception &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("intersects itself"), std::string::npos) << e.what();
+    }
+  // The (1,4) coil of the earlier default: four turns of radius 1 about the core, 4.8 mm apart
+  // where they come closest; a tube of radius 2.5 fills that.
+  EXPECT_NO_THROW(torus_knot(1, 4, 4, 1, 0.4, 128, density));
+  EXPECT_THROW(torus_knot(1, 4, 4, 1, 2.5, 128, density), std::exception);
 }

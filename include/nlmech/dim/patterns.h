@@ -44,11 +44,14 @@ namespace nlmech::dim
     double       R = 4, r = 0.5, h = 0.8, D = 5.657;
     unsigned int segments = 96;
   };
+  /// A (3,4) torus knot (a true knot, fourfold symmetric) on a torus of radii R and a; each
+  /// element links its four lattice neighbours once through the outer lobes (D = 9.5 mm: centreline
+  /// gap 1.13 mm at rest, no link across the diagonal).
   struct TorusKnotDimensions
   {
-    unsigned int p = 1, q = 4;
-    double       R = 4, a = 1, r = 0.4, D = 7, phase = 0;
-    unsigned int segments = 128;
+    unsigned int p = 3, q = 4;
+    double       R = 4, a = 1.5, r = 0.5, D = 9.5, phase = 0;
+    unsigned int segments = 192;
   };
   struct ScaleMailDimensions
   {
