@@ -128,7 +128,10 @@ namespace nlmech
                           "|target| of a driven strain: far outside the feasible set [-].");
         prm.declare_entry("Far curvature", "0.5", Patterns::Double(0),
                           "|target| of a driven curvature [1/mm].");
-        prm.declare_entry("Target weight", "0.01", Patterns::Double(0), "w of the driven component [N mm].");
+        prm.declare_entry("Target weight", "0.01", Patterns::Double(0),
+                          "w of the driven component [N mm]. Bending tests raise it (and the hold weight, "
+                          "in proportion) where gravity could hold a driven curvature back by more than "
+                          "0.5 % of the far curvature (2 G / w, G the gravity load); the log says so.");
         prm.declare_entry("Hold weight", "1", Patterns::Double(0),
                           "w of a component held at a level [N mm].");
         prm.declare_entry("Patch elements", "19", Patterns::Integer(2),
