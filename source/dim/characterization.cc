@@ -213,6 +213,14 @@ namespace nlmech::dim
     return name;
   }
 
+  bool reached_far_target(const Sample &sample, const double tolerance)
+  {
+    const bool principal_driven = sample.kind == SampleKind::positive || sample.kind == SampleKind::negative;
+    const double target         = principal_driven ? sample.target_p : sample.target_o;
+    const double reached        = principal_driven ? sample.outcome.principal : sample.outcome.orthogonal;
+    return target != 0 && reached / target >= 1 - tolerance;
+  }
+
   namespace
   {
     namespace fs = std::filesystem;

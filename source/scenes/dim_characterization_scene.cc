@@ -365,8 +365,7 @@ namespace nlmech
             for (const auto &s : samples)
               {
                 // A sample that reaches its far target found no limit: the set extends farther there.
-                if (std::abs(s.outcome.principal - s.target_p) < 1e-6 * std::max(1.0, std::abs(s.target_p)) &&
-                    std::abs(s.outcome.orthogonal - s.target_o) < 1e-6 * std::max(1.0, std::abs(s.target_o)))
+                if (reached_far_target(s))
                   ++at_target;
                 points.push_back(s.point);
                 lo = lo.cwiseMin(s.point), hi = hi.cwiseMax(s.point);
@@ -415,6 +414,11 @@ namespace nlmech
             context.pcout << test << ": " << samples.size() << " samples in " << seconds << " s; boundary "
                           << checked.vertices << " vertices, " << checked.triangles << " triangles, closed, "
                           << checked.flipped << " flipped" << std::endl;
+            if (at_target > 0)
+              context.pcout << test << ": " << at_target << " of " << samples.size()
+                            << " samples reached their far target (within 1 %): no limit there up to "
+                            << (test == "in-plane" ? "the far strain" : "the far curvature")
+                            << "; the boundary there is the target, not a limit" << std::endl;
           }
         // Directional limits and the figures of the first direction.
         double c_min = 1e300, c_max = -1e300;
@@ -505,7 +509,7 @@ namespace nlmech
         std::vector<std::array<int, 2>> block;
         for (int i = -1; i <= 1; ++i)
           for (int j = -1; j <= 1; ++j)
-            block.push_back({i, j});
+            block.push_back({{i, j}});
         InPlaneTest test(pattern, 0.0, settings);
         write_elements_vtu(test.assembly(), test.state(), block, context.output.file("cell-rest.vtu"));
         if (at_limit.size() == test.state().size())

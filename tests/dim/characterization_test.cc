@@ -75,7 +75,9 @@ TEST(InPlaneTest, RingChainStopsAtItsClosedFormStretchLimit)
       EXPECT_LE(link, 2 * (R - r));
       EXPECT_GE(link, 2 * (R * std::cos(M_PI / N) - r) - settings.contact.dhat);
       if (N == 256)
-        EXPECT_NEAR(out.principal, expected, 0.005 * expected);
+        {
+          EXPECT_NEAR(out.principal, expected, 0.005 * expected);
+        }
       EXPECT_GT(out.smallest_gap, 0);
     }
 }
@@ -150,4 +152,28 @@ TEST(BendingTest, GravityHoldsAWeakDriveBackByAboutTwoGOverWAndTheRaisedWeightsD
   std::printf("raised w %.4f (x%.2f): kappa %.5f, shortfall %.5f\n", raised.target_weight, factor,
               o.principal, shortfall);
   EXPECT_LT(std::abs(shortfall), 0.01 * plan.far_curvature);
+}
+
+TEST(Sampling, OnlyTheDrivenComponentDecidesWhetherASampleReachedItsFarTarget)
+{
+  // The knot's bending samples of 2026-12-03: every driven curvature got to 0.5 /mm, with the free
+  // orthogonal one anywhere; the summary used to count none of them.
+  Sample s;
+  s.kind = SampleKind::positive, s.target_p = 0.5, s.target_o = 0;
+  s.outcome.principal = 0.500002, s.outcome.orthogonal = -0.056;
+  EXPECT_TRUE(reached_far_target(s));
+  s.outcome.principal = 0.4960; // held back 0.8 %, by gravity say: still no limit found
+  EXPECT_TRUE(reached_far_target(s));
+  s.outcome.principal = 0.1168; // the threefold chainmail's limit
+  EXPECT_FALSE(reached_far_target(s));
+  s.kind = SampleKind::negative, s.target_p = -0.5, s.outcome.principal = -0.4999;
+  EXPECT_TRUE(reached_far_target(s));
+  s.outcome.principal = 0.4999; // the wrong side
+  EXPECT_FALSE(reached_far_target(s));
+  // A level sample drives the orthogonal component; the held principal one does not count.
+  s.kind = SampleKind::level_down, s.target_p = 0.02, s.target_o = -0.5;
+  s.outcome.principal = 0.02, s.outcome.orthogonal = -0.3;
+  EXPECT_FALSE(reached_far_target(s));
+  s.outcome.orthogonal = -0.50008;
+  EXPECT_TRUE(reached_far_target(s));
 }

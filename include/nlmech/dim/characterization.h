@@ -158,6 +158,12 @@ namespace nlmech::dim
     std::string     key() const;
   };
 
+  /// Whether the sample's driven component (the principal one of a positive or negative sample,
+  /// the orthogonal one of a level sample) got within `tolerance` (relative) of its far target:
+  /// then the test found no limit in that direction, and the boundary there is the target, not a
+  /// limit. The held or free component does not count.
+  bool reached_far_target(const Sample &sample, double tolerance = 0.01);
+
   /// Runs (or resumes) the sampling of one test ("in-plane" or "bending") over the communicator's
   /// ranks: the jobs of a phase are dealt out round-robin, and every finished sample is written at
   /// once (atomically) to `checkpoint_directory`, where a resumed run finds it and skips the job.
