@@ -24,13 +24,17 @@ def closed(theta, values):
 def main():
     limits_csv, stretch_png, bending_png, name = sys.argv[1:5]
     rows = list(csv.DictReader(open(limits_csv)))
-    theta = [math.radians(float(r["theta_deg"])) for r in rows]
-    col = lambda key: [float(r[key]) for r in rows]
 
-    if any(abs(v) > 0 for v in col("eps_stretch")):
+    def col(key):
+        """Angles [rad] and values of the rows where the column has a value (a test may have been
+        sampled at fewer directions than the other, or not at all: empty fields)."""
+        kept = [r for r in rows if r.get(key, "") != ""]
+        return [math.radians(float(r["theta_deg"])) for r in kept], [float(r[key]) for r in kept]
+
+    if any(abs(v) > 0 for v in col("eps_stretch")[1]):
         fig = plt.figure(figsize=(5, 5))
         ax = fig.add_subplot(projection="polar")
-        t, c = closed(theta, col("travel_c"))
+        t, c = closed(*col("travel_c"))
         ax.plot(t, c, "o-", label="c (eq. 4.4.1)")
         ax.set_title(f"{name}: in-plane range of travel c")
         ax.legend(loc="lower right")
@@ -38,7 +42,7 @@ def main():
         fig.savefig(stretch_png, dpi=120)
         plt.close(fig)
 
-    if any(abs(v) > 0 for v in col("kappa_positive")):
+    if any(abs(v) > 0 for v in col("kappa_positive")[1]):
         fig, axes = plt.subplots(1, 2, figsize=(10, 5), subplot_kw={"projection": "polar"})
         for ax, (pos, neg, title) in zip(
             axes,
@@ -48,7 +52,8 @@ def main():
             ],
         ):
             for key, style, label in [(pos, "o-", "positive bending"), (neg, "s--", "negative bending")]:
-                t, v = closed(theta, [abs(x) for x in col(key)])
+                theta, values = col(key)
+                t, v = closed(theta, [abs(x) for x in values])
                 ax.plot(t, v, style, label=label)
             ax.set_title(f"{name}: |{title}|", fontsize=10)
             ax.legend(loc="lower right", fontsize=8)

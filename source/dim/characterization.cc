@@ -6,8 +6,11 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -261,7 +264,8 @@ namespace nlmech::dim
   {
     AssertThrow(test == "in-plane" || test == "bending",
                 dealii::ExcMessage("Sampling: the test is 'in-plane' or 'bending', not '" + test + "'."));
-    AssertThrow(plan.directions >= 1, dealii::ExcMessage("Sampling: needs at least one direction."));
+    const unsigned directions = plan.directions_of(test);
+    AssertThrow(directions >= 1, dealii::ExcMessage("Sampling: needs at least one direction."));
     const unsigned rank = dealii::Utilities::MPI::this_mpi_process(comm);
     const unsigned size = dealii::Utilities::MPI::n_mpi_processes(comm);
     std::string    mismatch;
@@ -370,12 +374,12 @@ namespace nlmech::dim
     };
 
     std::vector<Sample> phase1;
-    for (unsigned d = 0; d < plan.directions; ++d)
+    for (unsigned d = 0; d < directions; ++d)
       for (const SampleKind kind : {SampleKind::positive, SampleKind::negative})
         if (kind == SampleKind::positive || !plan.positive_only)
           {
             Sample s;
-            s.test = test, s.direction = d, s.kind = kind, s.theta = M_PI * d / plan.directions;
+            s.test = test, s.direction = d, s.kind = kind, s.theta = M_PI * d / directions;
             s.target_p = kind == SampleKind::positive ? far : -far;
             phase1.push_back(s);
           }
@@ -383,13 +387,13 @@ namespace nlmech::dim
     if (plan.positive_only)
       return phase1;
     std::vector<Sample> phase2;
-    for (unsigned d = 0; d < plan.directions; ++d)
+    for (unsigned d = 0; d < directions; ++d)
       for (unsigned l = 1; l <= plan.levels; ++l)
         for (const SampleKind kind : {SampleKind::level_up, SampleKind::level_down})
           {
             const double hi = phase1[2 * d].outcome.principal, lo = phase1[2 * d + 1].outcome.principal;
             Sample       s;
-            s.test = test, s.direction = d, s.level = l, s.kind = kind, s.theta = M_PI * d / plan.directions;
+            s.test = test, s.direction = d, s.level = l, s.kind = kind, s.theta = M_PI * d / directions;
             s.target_p = lo + (hi - lo) * l / (plan.levels + 1);
             s.target_o = kind == SampleKind::level_up ? far : -far;
             phase2.push_back(s);
@@ -402,11 +406,11 @@ namespace nlmech::dim
   double raise_bending_weights(const Pattern &pattern, const SamplingPlan &plan,
                                NativeSolveSettings &settings)
   {
-    double load = 0;
-    for (unsigned d = 0; d < std::max(plan.directions, 1u); ++d)
+    double         load       = 0;
+    const unsigned directions = std::max(plan.directions_of("bending"), 1u);
+    for (unsigned d = 0; d < directions; ++d)
       load = std::max(
-          load, BendingTest(pattern, plan.patch_elements, M_PI * d / std::max(plan.directions, 1u), settings)
-                    .gravity_load());
+          load, BendingTest(pattern, plan.patch_elements, M_PI * d / directions, settings).gravity_load());
     // 2 G / w at most 0.5 % of the far curvature: the measured shortfall is up to about 1.5 times
     // 2 G / w (the load grows as the patch bends), so within 1 %.
     const double needed = 2 * load / (0.005 * plan.far_curvature);
@@ -433,5 +437,53 @@ namespace nlmech::dim
           l.negative_p = s.outcome.principal, l.negative_o = s.outcome.orthogonal;
       }
     return limits;
+  }
+
+  std::string limits_table(const std::vector<DirectionalLimits> &stretch,
+                           const std::vector<DirectionalLimits> &bending)
+  {
+    // Direction d of n lies at d / n of a half turn: rows at the distinct fractions of both.
+    std::vector<std::pair<double, std::array<int, 2>>> rows; // angle [deg], index in stretch, bending
+    const auto row_at = [&](const double deg) -> std::array<int, 2> & {
+      for (auto &r : rows)
+        if (std::abs(r.first - deg) < 1e-9)
+          return r.second;
+      rows.push_back({deg, {{-1, -1}}});
+      return rows.back().second;
+    };
+    for (std::size_t d = 0; d < stretch.size(); ++d)
+      row_at(180.0 * d / stretch.size())[0] = d;
+    for (std::size_t d = 0; d < bending.size(); ++d)
+      row_at(180.0 * d / bending.size())[1] = d;
+    std::sort(rows.begin(), rows.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
+    std::ostringstream out;
+    out << "theta_deg,eps_stretch,eps_o_at_stretch,eps_compress,eps_o_at_compress,travel_c,"
+           "kappa_positive,kappa_o_at_positive,kappa_negative,kappa_o_at_negative\n";
+    char field[160];
+    for (const auto &[deg, index] : rows)
+      {
+        std::snprintf(field, sizeof field, "%.6g", deg);
+        out << field;
+        if (index[0] >= 0)
+          {
+            const auto &s = stretch[index[0]];
+            std::snprintf(field, sizeof field, ",%.9g,%.9g,%.9g,%.9g,%.9g", s.positive_p, s.positive_o,
+                          s.negative_p, s.negative_o, travel_metric(s.positive_p, s.negative_p));
+            out << field;
+          }
+        else
+          out << ",,,,,";
+        if (index[1] >= 0)
+          {
+            const auto &b = bending[index[1]];
+            std::snprintf(field, sizeof field, ",%.9g,%.9g,%.9g,%.9g", b.positive_p, b.positive_o,
+                          b.negative_p, b.negative_o);
+            out << field;
+          }
+        else
+          out << ",,,,";
+        out << "\n";
+      }
+    return out.str();
   }
 } // namespace nlmech::dim

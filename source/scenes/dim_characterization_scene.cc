@@ -122,6 +122,11 @@ namespace nlmech
             "Directions", "12", Patterns::Integer(1),
             "theta_i = i 180 / n deg, i < n (at least 3 for a boundary, so that the samples span "
             "the strain space).");
+        prm.declare_entry("Bending directions", "0", Patterns::Integer(0),
+                          "Directions of the bending test, when it should sample fewer than the in-plane "
+                          "test (its samples cost seconds to minutes, in-plane ones milliseconds); 0: as "
+                          "Directions. limits.csv has a row per direction of either test, the fields of "
+                          "a test not sampled at that angle left empty.");
         prm.declare_entry("Levels", "2", Patterns::Integer(0),
                           "Principal values per direction at which the orthogonal limits are sought.");
         prm.declare_entry("Far strain", "0.9", Patterns::Double(0, 0.99),
@@ -256,17 +261,18 @@ namespace nlmech
         for (const auto &t : Utilities::split_string_list(prm.get("Tests"), ','))
           tests.push_back(t);
         AssertThrow(!tests.empty(), ExcMessage("Sampling: name at least one test (in-plane, bending)."));
-        plan.directions        = prm.get_integer("Directions");
-        plan.levels            = prm.get_integer("Levels");
-        plan.far_strain        = prm.get_double("Far strain");
-        plan.far_curvature     = prm.get_double("Far curvature");
-        settings.target_weight = prm.get_double("Target weight");
-        settings.hold_weight   = prm.get_double("Hold weight");
-        plan.patch_elements    = prm.get_integer("Patch elements");
-        checkpoint_directory   = prm.get("Checkpoint directory");
-        plan.stop_after        = prm.get_integer("Stop after");
-        plan.positive_only     = prm.get_bool("Positive only");
-        AssertThrow(plan.positive_only || plan.directions >= 3,
+        plan.directions         = prm.get_integer("Directions");
+        plan.bending_directions = prm.get_integer("Bending directions");
+        plan.levels             = prm.get_integer("Levels");
+        plan.far_strain         = prm.get_double("Far strain");
+        plan.far_curvature      = prm.get_double("Far curvature");
+        settings.target_weight  = prm.get_double("Target weight");
+        settings.hold_weight    = prm.get_double("Hold weight");
+        plan.patch_elements     = prm.get_integer("Patch elements");
+        checkpoint_directory    = prm.get("Checkpoint directory");
+        plan.stop_after         = prm.get_integer("Stop after");
+        plan.positive_only      = prm.get_bool("Positive only");
+        AssertThrow(plan.positive_only || (plan.directions >= 3 && plan.directions_of("bending") >= 3),
                     ExcMessage("Sampling: a boundary needs at least 3 directions (or set Positive only)."));
         prm.leave_subsection();
         // What the samples depend on, for the checkpoint: every parameter but the output places.
@@ -307,11 +313,8 @@ namespace nlmech
         const unsigned n_ranks = Utilities::MPI::n_mpi_processes(context.comm);
         context.pcout << "DIM characterisation of " << pattern.name << " on " << n_ranks
                       << " rank(s); checkpoint in " << checkpoint << std::endl;
-        std::ostringstream limits_csv;
-        limits_csv << "theta_deg,eps_stretch,eps_o_at_stretch,eps_compress,eps_o_at_compress,travel_c,"
-                      "kappa_positive,kappa_o_at_positive,kappa_negative,kappa_o_at_negative\n";
-        std::vector<DirectionalLimits> stretch(plan.directions), bend(plan.directions);
-        Eigen::VectorXd                limit_state; // of the in-plane sample at theta = 0, if solved here
+        std::vector<DirectionalLimits> stretch, bend; // of the tests that ran
+        Eigen::VectorXd                limit_state;   // of the in-plane sample at theta = 0, if solved here
         Eigen::VectorXd bending_state; // of the positive bending sample at theta = 0, if solved here
         // Bending: weights strong enough that gravity cannot hold a driven curvature back (the
         // prm's weights are a floor); they are part of the checkpoint's fingerprint (one plan, and
@@ -354,7 +357,7 @@ namespace nlmech
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             write_samples(context, test, samples);
-            (test == "in-plane" ? stretch : bend) = directional_limits(samples, plan.directions);
+            (test == "in-plane" ? stretch : bend) = directional_limits(samples, plan.directions_of(test));
             if (plan.positive_only)
               continue; // no boundary from one-sided samples
             // The boundary: samples plus the rest state inside; axes scaled by their sample ranges.
@@ -422,27 +425,21 @@ namespace nlmech
           }
         // Directional limits and the figures of the first direction.
         double c_min = 1e300, c_max = -1e300;
-        for (unsigned d = 0; d < plan.directions; ++d)
+        for (const auto &s : stretch)
           {
-            const double theta = 180.0 * d / plan.directions;
-            const auto  &s = stretch[d], &b = bend[d];
             const double c = travel_metric(s.positive_p, s.negative_p);
-            if (std::count(tests.begin(), tests.end(), "in-plane"))
-              c_min = std::min(c_min, c), c_max = std::max(c_max, c);
-            char line[512];
-            std::snprintf(line, sizeof line, "%.6g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", theta,
-                          s.positive_p, s.positive_o, s.negative_p, s.negative_o, c, b.positive_p,
-                          b.positive_o, b.negative_p, b.negative_o);
-            limits_csv << line;
+            c_min = std::min(c_min, c), c_max = std::max(c_max, c);
           }
-        if (std::count(tests.begin(), tests.end(), "in-plane"))
+        context.summary.add_number("stretch_directions", stretch.size());
+        context.summary.add_number("bending_directions", bend.size());
+        if (!stretch.empty())
           {
             context.summary.add_figure("stretch_limit_0deg", stretch[0].positive_p, "");
             context.summary.add_figure("compression_limit_0deg", stretch[0].negative_p, "");
             context.summary.add_figure("travel_c_min", c_min, "");
             context.summary.add_figure("travel_c_max", c_max, "");
           }
-        if (std::count(tests.begin(), tests.end(), "bending"))
+        if (!bend.empty())
           {
             context.summary.add_figure("kappa_positive_0deg", bend[0].positive_p, "1/mm");
             context.summary.add_figure("kappa_negative_0deg", bend[0].negative_p, "1/mm");
@@ -457,7 +454,7 @@ namespace nlmech
         context.summary.add_number("elements_per_cell", pattern.centres.size());
         if (context.is_root())
           {
-            write_file_atomically(context.output.file("limits.csv"), limits_csv.str());
+            write_file_atomically(context.output.file("limits.csv"), limits_table(stretch, bend));
             write_states(context, limit_state);
             // The bent patch at its positive limit along x (only when this rank solved that sample:
             // the checkpoint keeps figures, not states).

@@ -8,6 +8,9 @@
 
 #include <cstdio>
 #include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
 
 using namespace nlmech;
 using namespace nlmech::dim;
@@ -176,4 +179,58 @@ TEST(Sampling, OnlyTheDrivenComponentDecidesWhetherASampleReachedItsFarTarget)
   EXPECT_FALSE(reached_far_target(s));
   s.outcome.orthogonal = -0.50008;
   EXPECT_TRUE(reached_far_target(s));
+}
+
+TEST(Sampling, LimitsTableHasARowPerDirectionOfEitherTestAndLeavesTheOthersFieldsEmpty)
+{
+  // Six in-plane directions (every 30 deg), four bending ones (every 45 deg): rows at 0, 30, 45,
+  // 60, 90, 120, 135, 150 deg.
+  std::vector<DirectionalLimits> stretch(6), bending(4);
+  for (unsigned d = 0; d < 6; ++d)
+    stretch[d].positive_p = 0.01 * (d + 1), stretch[d].negative_p = -0.01;
+  for (unsigned d = 0; d < 4; ++d)
+    bending[d].positive_p = 0.1 * (d + 1), bending[d].negative_p = -0.1;
+  std::istringstream       table(limits_table(stretch, bending));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(table, line);)
+    lines.push_back(line);
+  ASSERT_EQ(lines.size(), 9u);
+  EXPECT_EQ(lines[0].substr(0, 22), "theta_deg,eps_stretch,");
+  const auto fields = [](const std::string &line) {
+    std::vector<std::string> f;
+    std::string              item;
+    std::istringstream       in(line);
+    while (std::getline(in, item, ','))
+      f.push_back(item);
+    if (!line.empty() && line.back() == ',')
+      f.push_back("");
+    return f;
+  };
+  const std::vector<std::string> angle{"0", "30", "45", "60", "90", "120", "135", "150"};
+  const std::vector<bool>        in_plane{true, true, false, true, true, true, false, true};
+  const std::vector<bool>        bent{true, false, true, false, true, false, true, false};
+  for (unsigned r = 0; r < 8; ++r)
+    {
+      const auto f = fields(lines[r + 1]);
+      ASSERT_EQ(f.size(), 10u) << lines[r + 1];
+      EXPECT_EQ(f[0], angle[r]);
+      EXPECT_EQ(f[1].empty(), !in_plane[r]) << lines[r + 1];
+      EXPECT_EQ(f[6].empty(), !bent[r]) << lines[r + 1];
+    }
+  // The values land in their rows: 60 deg is the third stretch direction, 135 the fourth bending.
+  EXPECT_DOUBLE_EQ(std::stod(fields(lines[4])[1]), 0.03);
+  EXPECT_DOUBLE_EQ(std::stod(fields(lines[7])[6]), 0.4);
+  // c of eq. 4.4.1 at 0 deg: (0.01 + 0.01) / (1 - 0.01).
+  EXPECT_NEAR(std::stod(fields(lines[1])[5]), 0.02 / 0.99, 1e-9);
+  // One test alone: its fields only, the other's empty everywhere.
+  std::istringstream alone(limits_table(stretch, {}));
+  std::string        line;
+  std::getline(alone, line);
+  unsigned rows = 0;
+  while (std::getline(alone, line))
+    {
+      ++rows;
+      EXPECT_TRUE(fields(line)[6].empty());
+    }
+  EXPECT_EQ(rows, 6u);
 }

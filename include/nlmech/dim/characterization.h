@@ -120,7 +120,14 @@ namespace nlmech::dim
   /// the boundary of the feasible set.
   struct SamplingPlan
   {
-    unsigned int directions     = 12;
+    unsigned int directions = 12;
+    /// Directions of the bending test, when it needs fewer than the cheap in-plane one (0: as
+    /// `directions`).
+    unsigned int bending_directions = 0;
+    unsigned int directions_of(const std::string &test) const
+    {
+      return test == "bending" && bending_directions > 0 ? bending_directions : directions;
+    }
     unsigned int levels         = 3;
     double       far_strain     = 0.5; // |target| of a driven strain component [-]
     double       far_curvature  = 0.5; // |target| of a driven curvature [1/mm]
@@ -190,4 +197,10 @@ namespace nlmech::dim
   };
   std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples,
                                                     unsigned int               directions);
+
+  /// The directional limits of both tests as CSV (`limits.csv`): one row per direction of either
+  /// test, sorted by angle; where a test was not sampled at a row's angle (its directions are
+  /// fewer, or it did not run: an empty vector) its fields are left empty.
+  std::string limits_table(const std::vector<DirectionalLimits> &stretch,
+                           const std::vector<DirectionalLimits> &bending);
 } // namespace nlmech::dim
