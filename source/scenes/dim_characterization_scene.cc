@@ -272,7 +272,9 @@ namespace nlmech
         checkpoint_directory    = prm.get("Checkpoint directory");
         plan.stop_after         = prm.get_integer("Stop after");
         plan.positive_only      = prm.get_bool("Positive only");
-        AssertThrow(plan.positive_only || (plan.directions >= 3 && plan.directions_of("bending") >= 3),
+        const bool bending      = std::find(tests.begin(), tests.end(), "bending") != tests.end();
+        AssertThrow(plan.positive_only ||
+                        (plan.directions >= 3 && (!bending || plan.directions_of("bending") >= 3)),
                     ExcMessage("Sampling: a boundary needs at least 3 directions (or set Positive only)."));
         prm.leave_subsection();
         // What the samples depend on, for the checkpoint: every parameter but the output places.
