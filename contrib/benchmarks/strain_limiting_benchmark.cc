@@ -266,9 +266,9 @@ int main(int argc, char **argv)
       steps, baseline_steps);
   std::printf(
       "| limit | mesh | unknowns | limits | IE | ours | iterations | ours, no warm start | iterations | "
-      "ours, CVXOPT start | iterations | ours, late candidates | Ipopt | Gauss-Seidel | ours/IE | no warm "
-      "start/ours | CVXOPT "
-      "start/ours | Ipopt/ours | GS/ours | distance Ipopt/ours | distance GS/ours |\n");
+      "ours, CVXOPT start | iterations | ours, late candidates | Ipopt | Gauss-Seidel | ours/IE | "
+      "no warm start/ours | CVXOPT start/ours | Ipopt/ours | GS/ours | distance Ipopt/ours | distance "
+      "GS/ours |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const double limit : limit_values)
     {
@@ -293,7 +293,7 @@ int main(int argc, char **argv)
           no_warm_start.warm_mu = 0;
           StrainLimitProjector cold(limits, sim.mass(), sim.fixed(), no_warm_start);
           Column               ie, ours, ours_cold, ours_classic, ip, gs;
-          std::vector<double>  ours_same; // ours on the candidates the baselines get
+          std::vector<double>  ours_same; // ours on the late candidates (the baselines' inputs)
           std::vector<double>  iterations, iterations_cold, iterations_classic, ratio_ip, ratio_gs;
           for (unsigned int s = 0; s < steps; ++s)
             {
@@ -376,8 +376,7 @@ int main(int argc, char **argv)
           if (!ratio_gs.empty())
             std::snprintf(d_gs, sizeof d_gs, "%.4f", median(ratio_gs));
           std::printf("| %.0f%% | %ux%u | %zu | %zu | %.3f s | %s | %.0f | %s | %.0f | %s | %.0f | %.4f s | "
-                      "%s | %s | %.2f | "
-                      "%s | %s | %s | %s | %s | %s |\n",
+                      "%s | %s | %.2f | %s | %s | %s | %s | %s | %s |\n",
                       (limit - 1) * 100, n, n, 3 * mesh.vertices.size(), limits.size(), median(ie.seconds),
                       ours.text().c_str(), median(iterations), ours_cold.text().c_str(),
                       median(iterations_cold), ours_classic.text().c_str(), median(iterations_classic),
