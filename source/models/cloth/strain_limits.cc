@@ -252,8 +252,17 @@ namespace nlmech
     for (std::size_t i = 0; i < limits.size(); ++i)
       include[i] =
           screening <= 0 || previously_active[i] || image(limits, i, x).norm() >= screening * limits.bound[i];
-    if (2 * std::size_t(std::count(include.begin(), include.end(), 1)) > limits.size())
-      std::fill(include.begin(), include.end(), 1);
+    // Once a quarter of the limits are in, all go in: the full problem costs about as much as
+    // a reduced one of that size solved twice (a second round to add what the first missed).
+    // Measured on 20 steps of the swinging sheet at 10 % limits (all projections, medians of 10):
+    // 20x20 0.40 s with the threshold at one half, 0.26-0.28 s at one quarter, 0.31 s always full;
+    // 40x40 2.40, 1.40-1.58 and 1.65 s; 60x60 6.7 s at one half, 3.9 s at one quarter. At 1 %
+    // nearly every limit is active from the first steps and the threshold makes no difference.
+    auto all_if_many = [&]() {
+      if (4 * std::size_t(std::count(include.begin(), include.end(), 1)) > limits.size())
+        std::fill(include.begin(), include.end(), 1);
+    };
+    all_if_many();
     result.status = ConicStatus::solved;
     for (unsigned int round = 0; round < 50; ++round)
       {
@@ -310,7 +319,7 @@ namespace nlmech
               x[Eigen::Index(unknowns[k])] = r.x[Eigen::Index(k)];
           }
         // Check every limit left out; add the violated and nearly active ones (with the same
-        // margin as the first screening, so that few rounds follow). Once most limits are in, all
+        // margin as the first screening, so that few rounds follow). Once a quarter of the limits are in, all
         // go in: the full problem's pattern is analysed once and reused from then on.
         // The projection pushes stretch outwards ring by ring; the limits that share a vertex
         // with a newly added one go in too, so that the rounds do not crawl one ring at a time.
@@ -333,8 +342,7 @@ namespace nlmech
                   include[i] = 1;
                   break;
                 }
-        if (2 * std::size_t(std::count(include.begin(), include.end(), 1)) > limits.size())
-          std::fill(include.begin(), include.end(), 1);
+        all_if_many();
       }
     remember_active();
     if (!previous_z.empty())

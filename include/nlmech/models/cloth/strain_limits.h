@@ -67,7 +67,9 @@ namespace nlmech
   /// x_hat). After a solve every limit is checked; any that is violated or within 0.1 % of its bound
   /// is added and the problem solved again. A point that meets every limit and solves the reduced
   /// problem solves the full one (the left-out limits have zero multipliers), so the result is the
-  /// projection itself. `screening` = 0 keeps every limit (the full problem, one round).
+  /// projection itself. Once a quarter of the limits are in, the full problem is solved instead
+  /// (its symbolic analysis is then kept). `screening` = 0 keeps every limit (the full problem,
+  /// one round).
   class StrainLimitProjector
   {
   public:
