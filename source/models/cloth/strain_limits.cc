@@ -319,8 +319,8 @@ namespace nlmech
               x[Eigen::Index(unknowns[k])] = r.x[Eigen::Index(k)];
           }
         // Check every limit left out; add the violated and nearly active ones (with the same
-        // margin as the first screening, so that few rounds follow). Once a quarter of the limits are in, all
-        // go in: the full problem's pattern is analysed once and reused from then on.
+        // margin as the first screening, so that few rounds follow); past a quarter, all go in
+        // (all_if_many), and the full problem's pattern is analysed once and reused from then on.
         // The projection pushes stretch outwards ring by ring; the limits that share a vertex
         // with a newly added one go in too, so that the rounds do not crawl one ring at a time.
         std::size_t       added = 0;
