@@ -8,10 +8,13 @@
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 
+#include <boost/core/demangle.hpp>
+
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <typeinfo>
 
 namespace nlmech
 {
@@ -99,9 +102,15 @@ namespace nlmech
           context.summary.add_string("scene", run.scene_name);
           context.summary.add_string("parameter_file", file);
           run.scene->run(context);
-          context.summary.add_string("status", context.partial_reason.empty() ? "complete" : "partial");
-          if (!context.partial_reason.empty())
+          const bool partial       = !context.partial_reason.empty(),
+                     checks_failed = !context.failed_checks.empty();
+          context.summary.add_string("status", partial         ? "partial"
+                                               : checks_failed ? "check_failed"
+                                                               : "complete");
+          if (partial)
             context.summary.add_string("partial_reason", context.partial_reason);
+          if (checks_failed)
+            context.summary.add_strings("failed_checks", context.failed_checks);
 
           if (context.is_root())
             {
@@ -116,10 +125,13 @@ namespace nlmech
               write_file_atomically(output.file("summary.json"), context.summary.to_string() + "\n");
             }
           output.commit();
-          if (!context.partial_reason.empty())
+          if (partial || checks_failed)
             {
               if (context.is_root())
-                std::cerr << "nlmech: error: " << context.partial_reason << "; partial results in "
+                std::cerr << "nlmech: error: "
+                          << (partial ? context.partial_reason + "; partial results in "
+                                      : std::to_string(context.failed_checks.size()) +
+                                            " of the run's own checks failed (see above); results in ")
                           << output.final_path() << "/" << std::endl;
               return 1;
             }
@@ -157,6 +169,43 @@ namespace nlmech
         return collapsed.empty() ? d->get_exc_name() : collapsed;
       }
     return e.what();
+  }
+
+  std::string describe_current_exception()
+  {
+    try
+      {
+        throw;
+      }
+    catch (const ExceptionBase &e)
+      {
+        return message_of(e);
+      }
+    catch (const std::bad_alloc &)
+      {
+        return "out of memory (std::bad_alloc): the problem is too large for this machine";
+      }
+    catch (const std::exception &e)
+      {
+        return std::string(e.what()) + " (an exception of type " + boost::core::demangle(typeid(e).name()) +
+               ")";
+      }
+    catch (const std::string &text)
+      {
+        return text + " (an exception of type std::string)";
+      }
+    catch (const char *text)
+      {
+        return std::string(text) + " (an exception of type const char *)";
+      }
+    catch (const int code)
+      {
+        return "an exception of type int with value " + std::to_string(code);
+      }
+    catch (...)
+      {
+        return "an exception of unknown type";
+      }
   }
 
   std::string read_scene_type(const std::string &parameter_file)
@@ -232,14 +281,14 @@ namespace nlmech
             AssertThrow(false, ExcMessage("Unexpected argument <" + args[i] + ">.\n" + std::string(usage)));
         return run_scene(args[0], output_override, comm);
       }
-    catch (const std::exception &e)
+    catch (...)
       {
         const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
         if (root || n_ranks > 1)
           std::cerr << "nlmech: error: "
                     << (n_ranks > 1 ? "[rank " + std::to_string(Utilities::MPI::this_mpi_process(comm)) + "] "
                                     : "")
-                    << message_of(e) << std::endl;
+                    << describe_current_exception() << std::endl;
         return 1;
       }
   }

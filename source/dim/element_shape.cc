@@ -152,12 +152,13 @@ namespace nlmech::dim
   }
 
   ElementShape triangle_mesh_element(const std::string &file, const double skin_radius, const double density,
-                                     const double mesh_size)
+                                     const double mesh_size, const std::string &written)
   {
     AssertThrow(skin_radius >= 0 && mesh_size >= 0,
                 dealii::ExcMessage("Mesh element: the skin radius and mesh size must not be negative."));
     MeshOptions options;
     options.file                  = file;
+    options.written               = written;
     options.characteristic_length = mesh_size;
     const auto mesh               = read_simplex_mesh<3>(options, 2);
     check_simplex_mesh(mesh, 2);

@@ -29,6 +29,45 @@ namespace nlmech
       return out;
     }
 
+    /// Runs a block of gmsh API calls; gmsh reports its errors by throwing a std::string (parse errors,
+    /// unreadable sections), which becomes one deal.II exception naming the file.
+    template <typename Calls>
+    void call_gmsh(const MeshOptions &options, const std::string &doing, Calls &&calls)
+    {
+      std::string what;
+      try
+        {
+          calls();
+          return;
+        }
+      catch (const dealii::ExceptionBase &)
+        {
+          throw; // our own checks inside the block
+        }
+      catch (const std::string &message)
+        {
+          what = message;
+        }
+      catch (const char *message)
+        {
+          what = message;
+        }
+      catch (const std::exception &e)
+        {
+          what = e.what();
+        }
+      catch (...)
+        {
+          what = "an unknown error";
+        }
+      std::string last;
+      gmsh::logger::getLastError(last);
+      if (!last.empty() && what.find(last) == std::string::npos && last.find(what) == std::string::npos)
+        what += " (" + last + ")";
+      AssertThrow(false,
+                  ExcMessage("gmsh could not " + doing + " the mesh file " + options.name() + ": " + what));
+    }
+
     // gmsh keeps global state; one session at a time.
     std::mutex gmsh_mutex;
 
@@ -57,13 +96,20 @@ namespace nlmech
     };
   } // namespace
 
+  std::string MeshOptions::name() const
+  {
+    if (written.empty() || written == file)
+      return "<" + file + ">";
+    return "<" + written + "> (" + file + ")";
+  }
+
   unsigned int MeshGroups::boundary_id(const std::string &name) const
   {
     const auto it = boundary_ids.find(name);
     AssertThrow(it != boundary_ids.end(),
                 ExcMessage("The physical group <" + name +
-                           "> does not exist among the boundary groups of mesh <" + source +
-                           ">. Boundary groups present: " + list_names(boundary_ids) + "."));
+                           "> does not exist among the boundary groups of mesh " + source +
+                           ". Boundary groups present: " + list_names(boundary_ids) + "."));
     return it->second;
   }
 
@@ -72,44 +118,66 @@ namespace nlmech
     const auto it = material_ids.find(name);
     AssertThrow(it != material_ids.end(),
                 ExcMessage("The physical group <" + name +
-                           "> does not exist among the volume groups of mesh <" + source +
-                           ">. Volume groups present: " + list_names(material_ids) + "."));
+                           "> does not exist among the volume groups of mesh " + source +
+                           ". Volume groups present: " + list_names(material_ids) + "."));
     return it->second;
+  }
+
+  template <int spacedim>
+  void extract_simplices(const MeshOptions &options, int dim, RawSimplexMesh<spacedim> &mesh);
+
+  namespace
+  {
+    /// The file checks before gmsh sees it; returns the extension.
+    std::string check_mesh_file(const MeshOptions &options)
+    {
+      namespace fs = std::filesystem;
+      AssertThrow(!options.file.empty(), ExcMessage("No mesh file was given."));
+      AssertThrow(fs::is_regular_file(options.file),
+                  ExcMessage("The mesh file " + options.name() + " does not exist."));
+      const std::string extension = fs::path(options.file).extension().string();
+      AssertThrow(
+          extension == ".geo" || extension == ".msh",
+          ExcMessage("The mesh file " + options.name() + " must be a gmsh .geo source or a .msh mesh."));
+      return extension;
+    }
+  } // namespace
+
+  void check_mesh_readable(const MeshOptions &options)
+  {
+    const std::string           extension = check_mesh_file(options);
+    std::lock_guard<std::mutex> lock(gmsh_mutex);
+    GmshSession                 session(options);
+    call_gmsh(options, "read", [&] { gmsh::open(options.file); });
   }
 
   template <int spacedim>
   RawSimplexMesh<spacedim> read_simplex_mesh(const MeshOptions &options, const int dim)
   {
-    namespace fs = std::filesystem;
-    AssertThrow(!options.file.empty(), ExcMessage("No mesh file was given."));
-    AssertThrow(fs::is_regular_file(options.file),
-                ExcMessage("The mesh file <" + options.file + "> does not exist."));
-    const std::string extension = fs::path(options.file).extension().string();
-    AssertThrow(
-        extension == ".geo" || extension == ".msh",
-        ExcMessage("The mesh file <" + options.file + "> must be a gmsh .geo source or a .msh mesh."));
-
+    const std::string           extension = check_mesh_file(options);
     std::lock_guard<std::mutex> lock(gmsh_mutex);
     GmshSession                 session(options);
     RawSimplexMesh<spacedim>    mesh;
-    mesh.groups.source = options.file;
+    mesh.groups.source = options.name();
 
-    try
-      {
-        if (extension == ".geo" && options.characteristic_length > 0)
-          {
-            gmsh::option::setNumber("Mesh.CharacteristicLengthMax", options.characteristic_length);
-            gmsh::option::setNumber("Mesh.CharacteristicLengthFromPoints", 0);
-          }
-        gmsh::open(options.file);
-        if (extension == ".geo")
-          gmsh::model::mesh::generate(dim);
-      }
-    catch (const std::exception &e)
-      {
-        AssertThrow(false, ExcMessage("gmsh could not read or mesh <" + options.file + ">: " + e.what()));
-      }
+    // Everything that talks to gmsh in one block: gmsh throws its errors as std::string.
+    call_gmsh(options, extension == ".geo" ? "read or mesh" : "read", [&] {
+      if (extension == ".geo" && options.characteristic_length > 0)
+        {
+          gmsh::option::setNumber("Mesh.CharacteristicLengthMax", options.characteristic_length);
+          gmsh::option::setNumber("Mesh.CharacteristicLengthFromPoints", 0);
+        }
+      gmsh::open(options.file);
+      if (extension == ".geo")
+        gmsh::model::mesh::generate(dim);
+      extract_simplices(options, dim, mesh);
+    });
+    return mesh;
+  }
 
+  template <int spacedim>
+  void extract_simplices(const MeshOptions &options, const int dim, RawSimplexMesh<spacedim> &mesh)
+  {
     // Only linear simplices are supported.
     const int cell_type = (dim == 3 ? 4 : 2), face_type = (dim == 3 ? 2 : 1);
     {
@@ -122,7 +190,7 @@ namespace nlmech
             int                 d, order, n_nodes, n_primary;
             std::vector<double> local;
             gmsh::model::mesh::getElementProperties(t, name, d, order, n_nodes, local, n_primary);
-            AssertThrow(false, ExcMessage("The mesh <" + options.file + "> contains elements of type <" +
+            AssertThrow(false, ExcMessage("The mesh " + options.name() + " contains elements of type <" +
                                           name + ">; nlmech needs linear " +
                                           (dim == 3 ? "tetrahedra" : "triangles") + "."));
           }
@@ -146,7 +214,7 @@ namespace nlmech
         x[d] = coordinates[3 * p + d];
       if (spacedim == 2)
         AssertThrow(std::abs(coordinates[3 * p + 2]) < 1e-12 * (1 + std::abs(x[0]) + std::abs(x[1])),
-                                                             ExcMessage("The 2D mesh <" + options.file + "> has nodes with z != 0."));
+                                                             ExcMessage("The 2D mesh " + options.name() + " has nodes with z != 0."));
       const unsigned int index = mesh.vertices.size();
       mesh.vertices.push_back(x);
       vertex_index.emplace(tag, index);
@@ -230,15 +298,14 @@ namespace nlmech
                 }
             }
         }
-    return mesh;
   }
 
   template <int spacedim>
   void check_simplex_mesh(const RawSimplexMesh<spacedim> &mesh, const int dim)
   {
     const std::string &file = mesh.groups.source;
-    AssertThrow(!mesh.cells.empty(), ExcMessage("The mesh <" + file + "> has no " +
-                                                (dim == 3 ? "tetrahedra" : "triangles") + "."));
+    AssertThrow(!mesh.cells.empty(),
+                ExcMessage("The mesh " + file + " has no " + (dim == 3 ? "tetrahedra" : "triangles") + "."));
     for (std::size_t c = 0; c < mesh.cells.size(); ++c)
       {
         const auto                              &cell = mesh.cells[c];
@@ -267,9 +334,9 @@ namespace nlmech
         std::ostringstream where;
         where << "element " << c << " (first vertex at " << mesh.vertices[cell[0]] << ")";
         AssertThrow(longest > 0 && std::abs(measure) > 1e-10 * std::pow(longest, dim),
-                    ExcMessage("The mesh <" + file + "> has a degenerate " + where.str() + ": its " +
+                    ExcMessage("The mesh " + file + " has a degenerate " + where.str() + ": its " +
                                (dim == 3 ? "volume" : "area") + " is zero."));
-        AssertThrow(measure > 0, ExcMessage("The mesh <" + file + "> has an inverted " + where.str() +
+        AssertThrow(measure > 0, ExcMessage("The mesh " + file + " has an inverted " + where.str() +
                                             ": its vertices are ordered with negative orientation."));
       }
   }

@@ -96,11 +96,7 @@ namespace nlmech
         study.mesh.constants["H"] = height;
       }
 
-      void validate() const override
-      {
-        AssertThrow(std::filesystem::exists(study.mesh.file),
-                    ExcMessage("The mesh file <" + study.mesh.file + "> does not exist."));
-      }
+      void validate() const override { study.mesh.check_exists(); }
 
       void run(RunContext &context) override
       {

@@ -209,7 +209,8 @@ namespace nlmech
                         ExcMessage("Mesh element: give the 'Mesh file' of the element's surface."));
             pattern.name = "mesh element";
             pattern.shapes.push_back(triangle_mesh_element(file, prm.get_double("Skin radius"), density,
-                                                           prm.get_double("Mesh size")));
+                                                           prm.get_double("Mesh size"),
+                                                           prm.get("Mesh file")));
             auto vector2 = [&](const std::string &entry) {
               const auto v = Utilities::string_to_double(Utilities::split_string_list(prm.get(entry)));
               return Eigen::Vector2d(v[0], v[1]);

@@ -5,6 +5,7 @@
 #include <nlmech/base/run_context.h>
 
 #include <cmath>
+#include <filesystem>
 
 namespace nlmech
 {
@@ -59,7 +60,8 @@ namespace nlmech
   void MeshParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Mesh");
-    file         = resolve_input_path(prm.get("Mesh file"), current_parameter_directory());
+    written      = prm.get("Mesh file");
+    file         = resolve_input_path(written, current_parameter_directory());
     element_size = prm.get_double("Element size");
     constants.clear();
     for (const auto &item : Utilities::split_string_list(prm.get("Geometry constants"), ','))
@@ -78,9 +80,17 @@ namespace nlmech
   {
     MeshOptions o;
     o.file                  = file;
+    o.written               = written;
     o.characteristic_length = size;
     o.constants             = constants;
     return o;
+  }
+
+  void MeshParameters::check_exists() const
+  {
+    AssertThrow(std::filesystem::is_regular_file(file),
+                ExcMessage("The mesh file " + options(0).name() + " does not exist."));
+    check_mesh_readable(options(element_size));
   }
 
   void MeshStudyParameters::declare_parameters(ParameterHandler &prm, const std::string &default_sizes)

@@ -75,11 +75,7 @@ namespace nlmech
                     ExcMessage("At least one clamped group is needed to prevent rigid-body motion."));
       }
 
-      void validate() const override
-      {
-        AssertThrow(std::filesystem::exists(mesh.file),
-                    ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
-      }
+      void validate() const override { mesh.check_exists(); }
 
       void run(RunContext &context) override
       {

@@ -369,6 +369,13 @@ namespace nlmech
         AssertThrow(mass > 0, ExcMessage("Mass must be positive."));
       }
 
+      void validate() const override
+      {
+        if (model_kind != "duffing" && model_kind != "two-spring-mass" && model_kind != "mechanism" &&
+            model_kind != "rods")
+          mesh.check_exists();
+      }
+
       void run(RunContext &context) override
       {
         Structure s;

@@ -166,11 +166,7 @@ namespace nlmech
         solver.parse_parameters(prm);
       }
 
-      void validate() const override
-      {
-        AssertThrow(std::filesystem::exists(mesh.file),
-                    ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
-      }
+      void validate() const override { mesh.check_exists(); }
 
       void run(RunContext &context) override
       {

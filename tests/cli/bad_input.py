@@ -2,6 +2,7 @@
 """Bad input: each case must end in one clear error line, a non-zero exit and no result files.
 
 usage: bad_input.py --nlmech BIN --source-dir DIR CASE
+       bad_input.py --source-dir DIR --list      the case names, one per line
 """
 import argparse
 import os
@@ -37,9 +38,51 @@ def dim(entries):
     return "set Scene type = dim-characterization\n" + entries
 
 
+# Malformed meshes, written next to the parameter file and named in it relative to it.
+BAD_MESHES = {
+    "garbage-msh": ("garbage.msh", "%$#@ this is not a mesh\n", "syntax error"),
+    "truncated-msh": ("truncated.msh", None, "Could not read"),
+    "bad-geo": ("broken.geo", "Point(1) = {0, 0, 0;\nLine(2 = {1, 2};\n", "syntax error"),
+}
+
+
+def truncated_msh(source):
+    """The first half of a valid gmsh 4.1 mesh of the unit cube: elements cut off mid-section."""
+    path = os.path.join(source, "tests", "data", "unit_cube.msh")
+    with open(path) as f:
+        text = f.read()
+    return text[: len(text) // 2]
+
+
+def mesh_scenes(mesh):
+    """Every scene that reads a gmsh file, pointed at `mesh`."""
+    return {
+        "cantilever": "set Scene type = cantilever\nsubsection Mesh\n  set Mesh file = " + mesh + "\nend\n",
+        "elastic-statics": elastic(mesh),
+        "manufactured": "set Scene type = manufactured-solution\nsubsection Mesh\n  set Mesh file = " + mesh +
+                        "\nend\n",
+        "hyperelastic-statics": "set Scene type = hyperelastic-statics\nsubsection Mesh\n  set Mesh file = " + mesh +
+                                "\nend\n",
+        "inverse-design": "set Scene type = inverse-design\nsubsection Mesh\n  set Mesh file = " + mesh + "\nend\n",
+        "hbm-shell": hbm("") + "subsection Oscillator\n  set Model = shell\nend\nsubsection Mesh\n"
+                     "  set Mesh file = " + mesh + "\nend\n",
+        "dim-mesh-element": dim("subsection Material\n  set Pattern = mesh element\n  subsection Mesh element\n"
+                                "    set Mesh file = " + mesh + "\n  end\nend\n"),
+    }
+
+
+def mesh_cases(source):
+    out = {}
+    for kind, (name, text, gmsh_says) in BAD_MESHES.items():
+        content = truncated_msh(source) if text is None else text
+        for scene, prm in mesh_scenes(name).items():
+            out[f"{scene}-{kind}"] = (prm, [f"gmsh could not read", f"<{name}>", gmsh_says], {name: content})
+    return out
+
+
 def cases(source):
     data = os.path.join(source, "tests", "data")
-    return {
+    return mesh_cases(source) | {
         "malformed-prm": (CANTILEVER + "subsection Material\n  sett Young's modulus 3\nend\n", "Line <6>"),
         "unknown-scene": ("set Scene type = warp-drive\n", "Unknown scene <warp-drive>. Registered scenes: biphasic-sheet, cantilever"),
         "no-scene": ("subsection Material\nend\n", "does not name a scene"),
@@ -72,6 +115,10 @@ def cases(source):
                                   "the pins are farther apart than the limits allow"),
         "sheet-bad-limit-formula": (sheet("subsection Strain limits\n  set Limit = 1 + sin(\nend\n"),
                                     "cannot parse the limit formula"),
+        "sheet-limit-dips-between-samples": (sheet("subsection Strain limits\n  set Limit = 1.01 - 0.05*cos(8*alpha)\nend\n"),
+                                             ["is below 1", "checked on 3600 directions"]),
+        "sheet-pins-beyond-the-curve": (sheet("subsection Sheet\n  set Pin offsets = 0, 0, 0; 0.025, 0, 0\nend\n"),
+                                        ["the pins are farther apart than the limits allow", "1.05 times"]),
         "sheet-bad-limit-sample": (sheet("subsection Strain limits\n  set Limit samples = 0:1.02; 90\nend\n"),
                                    "is not of the form angle:limit"),
         "dim-impossible-link": (dim("subsection Material\n  set Pattern = ring chain\n  subsection Ring chain\n"
@@ -93,26 +140,38 @@ def cases(source):
 
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("--nlmech", required=True)
+    parser.add_argument("--nlmech")
     parser.add_argument("--source-dir", required=True)
-    parser.add_argument("case")
+    parser.add_argument("--list", action="store_true")
+    parser.add_argument("--validate", action="store_true", help="check `nlmech --validate` refuses it too")
+    parser.add_argument("case", nargs="?")
     args = parser.parse_args()
-    prm_text, expected = cases(args.source_dir)[args.case]
+    if args.list:
+        print("\n".join(cases(args.source_dir)))
+        return 0
+    case = cases(args.source_dir)[args.case]
+    prm_text, expected = case[0], case[1]
+    expected = [expected] if isinstance(expected, str) else expected
+    inputs = case[2] if len(case) > 2 else {}
     work = tempfile.mkdtemp(prefix="nlmech_bad_")
     try:
         prm = os.path.join(work, "case.prm")
         with open(prm, "w") as f:
             f.write(prm_text)
+        for name, content in inputs.items():
+            with open(os.path.join(work, name), "w") as f:
+                f.write(content)
         out = os.path.join(work, "results")
-        run = subprocess.run([args.nlmech, prm, "--output-directory", out], capture_output=True, text=True, cwd=work)
+        command = [args.nlmech, "--validate", prm] if args.validate else [args.nlmech, prm, "--output-directory", out]
+        run = subprocess.run(command, capture_output=True, text=True, cwd=work)
         print(run.stdout + run.stderr)
         errors = [line for line in run.stderr.splitlines() if line.startswith("nlmech: error:")]
         checks = {
             "non-zero exit status": run.returncode != 0,
             "exactly one error line": len(errors) == 1 and len(run.stderr.strip().splitlines()) == 1,
-            f"message contains '{expected}'": expected in run.stderr,
+            **{f"message contains '{e}'": e in run.stderr for e in expected},
             "no stack dump": "Stacktrace" not in run.stderr and "--------" not in run.stderr,
-            "no result files left": sorted(os.listdir(work)) == ["case.prm"],
+            "no result files left": sorted(os.listdir(work)) == sorted(["case.prm", *inputs]),
         }
         for name, ok in checks.items():
             print(f"{'ok  ' if ok else 'FAIL'}: {name}")

@@ -18,6 +18,10 @@ namespace nlmech
   /// The message of an exception in one paragraph, without deal.II's source-location banner.
   std::string message_of(const std::exception &e);
 
+  /// Inside a catch block: one line saying what was thrown, whatever its type (deal.II and standard
+  /// exceptions, the std::string that gmsh throws, anything else), and of which type it was.
+  std::string describe_current_exception();
+
   /// The value of the top-level `set Scene type = NAME` entry of a parameter file, or "" if absent.
   std::string read_scene_type(const std::string &parameter_file);
 } // namespace nlmech

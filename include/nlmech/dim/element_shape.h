@@ -61,8 +61,9 @@ namespace nlmech::dim
   /// For a closed, consistently oriented surface the mass is density times the enclosed volume
   /// and the origin is the solid's centre of mass; otherwise the surface counts as a shell of
   /// thickness 2 skin_radius. The element has no centreline, so its links are not checked.
+  /// `written` is the path as the user wrote it, for messages.
   ElementShape triangle_mesh_element(const std::string &file, double skin_radius, double density,
-                                     double mesh_size = 0);
+                                     double mesh_size = 0, const std::string &written = "");
 
   /// Linking number of two closed polylines (exact for polylines: the sum of the signed solid
   /// angles of segment pairs over 4 pi, Klenin and Langowski 2000), rounded to the nearest integer.

@@ -21,6 +21,11 @@ namespace nlmech
     double characteristic_length = 0;
     /// Values for DefineConstant[] entries of a .geo source (e.g. L, W, H).
     std::map<std::string, double> constants;
+    /// The path as the user wrote it (relative to the parameter file), for messages; empty: `file`.
+    std::string written;
+
+    /// `<written>` for messages, with the resolved path beside it when the two differ.
+    std::string name() const;
   };
 
   /// The physical groups of a mesh, by name.
@@ -48,6 +53,10 @@ namespace nlmech
   };
 
   /// Runs gmsh on `options` and returns the linear simplices of dimension `dim`.
+  /// Opens the file in gmsh without meshing it (a .geo is parsed, a .msh read): one clear error
+  /// naming the file for what gmsh cannot read. For `--validate`.
+  void check_mesh_readable(const MeshOptions &options);
+
   template <int spacedim>
   RawSimplexMesh<spacedim> read_simplex_mesh(const MeshOptions &options, int dim);
 

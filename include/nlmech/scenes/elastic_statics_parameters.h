@@ -17,7 +17,8 @@ namespace nlmech
   /// subsection Mesh
   struct MeshParameters
   {
-    std::string                   file; // resolved path
+    std::string                   file;    // resolved path
+    std::string                   written; // as written in the parameter file
     double                        element_size = 0;
     std::map<std::string, double> constants;
 
@@ -25,6 +26,9 @@ namespace nlmech
                                    double default_size);
     void        parse_parameters(dealii::ParameterHandler &prm);
     MeshOptions options(double size) const;
+    /// A clear error when the mesh file is missing or gmsh cannot read it, naming the path as
+    /// written and as resolved (for validate(): a .geo is parsed, not meshed).
+    void check_exists() const;
   };
 
   /// subsection Mesh study
