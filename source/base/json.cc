@@ -66,6 +66,14 @@ namespace nlmech
     entries.emplace_back(key, list + "]");
   }
 
+  void JsonObject::add_strings(const std::string &key, const std::vector<std::string> &values)
+  {
+    std::string list = "[";
+    for (std::size_t i = 0; i < values.size(); ++i)
+      list += (i ? ", " : "") + json_quote(values[i]);
+    entries.emplace_back(key, list + "]");
+  }
+
   std::string JsonObject::to_string(unsigned int indent) const
   {
     const std::string pad(indent + 2, ' ');

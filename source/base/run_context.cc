@@ -22,6 +22,13 @@ namespace nlmech
     return dealii::Utilities::MPI::this_mpi_process(comm) == 0;
   }
 
+  void RunContext::fail_check(const std::string &what)
+  {
+    failed_checks.push_back(what);
+    if (is_root())
+      std::cerr << "nlmech: check failed: " << what << std::endl;
+  }
+
   namespace
   {
     std::string &parameter_directory()

@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -41,6 +42,8 @@ namespace nlmech
       std::size_t         index = 0;
       std::string         csv, message, error;
       std::vector<Figure> figures;
+      std::vector<double> reached;       // largest stretch per grid direction over the run
+      std::string         check_failure; // the curve was not held to its tolerance
 
       static void put(std::string &out, const std::string &field)
       {
@@ -57,8 +60,15 @@ namespace nlmech
       void pack(std::string &out) const
       {
         put(out, std::to_string(index)), put(out, csv), put(out, message), put(out, error);
-        put(out, std::to_string(figures.size()));
+        put(out, check_failure);
         char value[64];
+        put(out, std::to_string(reached.size()));
+        for (const double r : reached)
+          {
+            std::snprintf(value, sizeof value, "%.17g", r);
+            put(out, value);
+          }
+        put(out, std::to_string(figures.size()));
         for (const auto &f : figures)
           {
             std::snprintf(value, sizeof value, "%.17g", f.value);
@@ -72,6 +82,10 @@ namespace nlmech
         o.csv               = take(in, pos);
         o.message           = take(in, pos);
         o.error             = take(in, pos);
+        o.check_failure     = take(in, pos);
+        const std::size_t m = std::stoul(take(in, pos));
+        for (std::size_t k = 0; k < m; ++k)
+          o.reached.push_back(std::strtod(take(in, pos).c_str(), nullptr));
         const std::size_t n = std::stoul(take(in, pos));
         for (std::size_t k = 0; k < n; ++k)
           {
@@ -117,6 +131,12 @@ namespace nlmech
                           "linearly and periodically over 180 degrees (d and -d are one direction).");
         prm.declare_entry("Directions", "4", Patterns::Integer(1),
                           "Sampled directions per triangle, alpha_j = -pi/2 + (j + 1/2) pi / n [-].");
+        prm.declare_entry("Curve tolerance", "0.1", Patterns::Double(0),
+                          "The limit curve is held between the sampled directions too: a triangle "
+                          "stretched beyond b(alpha) + tol (b(alpha) - 1) in any direction gets a further "
+                          "cone in that direction (cutting planes) and is projected again. A fraction of "
+                          "the requested strain; 0: only the sampled directions are held (with lateral "
+                          "contraction a 1 % limit sampled at 4 directions then allows 9.3 % along x) [-].");
         prm.leave_subsection();
         prm.enter_subsection("Time stepping");
         prm.declare_entry("Schemes", "SAR", Patterns::Anything(),
@@ -140,6 +160,9 @@ namespace nlmech
                           "the true Hessian, shifted by a multiple of the identity where indefinite.");
         prm.declare_entry("Projection tolerance", "1e-9", Patterns::Double(0),
                           "Residuals and gap of the interior-point projection (relative) [-].");
+        prm.declare_entry("Projection iterations", "100", Patterns::Integer(1),
+                          "Interior-point iterations per cone problem before the projection (and its "
+                          "scheme) is given up [-].");
         prm.leave_subsection();
         prm.enter_subsection("Collisions");
         prm.declare_entry("Sphere stiffness", "0", Patterns::Double(0),
@@ -180,6 +203,7 @@ namespace nlmech
         prm.enter_subsection("Strain limits");
         limit_expression = prm.get("Limit");
         directions       = unsigned(prm.get_integer("Directions"));
+        curve_tolerance  = prm.get_double("Curve tolerance");
         for (const auto &sample : Utilities::split_string_list(prm.get("Limit samples"), ';'))
           {
             const auto parts = Utilities::split_string_list(sample, ':');
@@ -206,6 +230,7 @@ namespace nlmech
         settings.area_barrier               = prm.get_double("Area barrier");
         cone_settings.feasibility_tolerance = cone_settings.gap_tolerance =
             prm.get_double("Projection tolerance");
+        cone_settings.max_iterations = unsigned(prm.get_integer("Projection iterations"));
         AssertThrow(settings.time_step > 0 && end_time >= settings.time_step,
                     ExcMessage("Time stepping: needs a positive time step no longer than the end time."));
         prm.leave_subsection();
@@ -242,42 +267,11 @@ namespace nlmech
 
       void run(RunContext &context) override
       {
-        const RawSimplexMesh<3>   mesh = make_sheet_mesh(size, resolution);
-        std::vector<unsigned int> pinned;
-        const double              cell = size / resolution;
-        for (const auto &p : pinned_points)
-          {
-            unsigned int best = 0;
-            double       d    = 1e300;
-            for (unsigned int v = 0; v < mesh.vertices.size(); ++v)
-              {
-                const double dv = mesh.vertices[v].distance(Point<3>(p[0], p[1], p[2]));
-                if (dv < d)
-                  d = dv, best = v;
-              }
-            AssertThrow(d <= 0.5 * cell,
-                        ExcMessage("Pinned points: (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) +
-                                   ", " + std::to_string(p[2]) + ") is not on the sheet."));
-            pinned.push_back(best);
-          }
-        const auto limit = [&](double alpha) {
-          if (limit_samples.empty())
-            return limit_function->value(Point<1>(alpha));
-          // Periodic linear interpolation over pi.
-          const double a = std::fmod(std::fmod(alpha, numbers::PI) + numbers::PI, numbers::PI);
-          const auto   n = limit_samples.size();
-          for (std::size_t k = 0; k < n; ++k)
-            {
-              const auto  &lo = limit_samples[k];
-              const auto  &hi = limit_samples[(k + 1) % n];
-              const double a0 = lo.first, a1 = k + 1 < n ? hi.first : hi.first + numbers::PI;
-              const double aa = a < a0 ? a + numbers::PI : a;
-              if (n == 1 || (aa >= a0 && aa <= a1))
-                return n == 1 ? lo.second : lo.second + (hi.second - lo.second) * (aa - a0) / (a1 - a0);
-            }
-          return limit_samples.front().second;
-        };
-        const auto limits = make_strain_limits(mesh, {{1, 0, 0}}, {{0, 0, 1}}, directions, limit);
+        const RawSimplexMesh<3>         mesh   = make_sheet_mesh(size, resolution);
+        const std::vector<unsigned int> pinned = pinned_vertices(mesh);
+        const auto                      limit  = [this](double alpha) { return limit_at(alpha); };
+        const auto                      limits =
+            make_strain_limits(mesh, {{1, 0, 0}}, {{0, 0, 1}}, directions, limit, curve_tolerance);
         context.pcout << "biphasic sheet: " << mesh.vertices.size() << " vertices, " << mesh.cells.size()
                       << " triangles, " << limits.size() << " stretch limits, " << pinned.size()
                       << " pinned vertices" << std::endl;
@@ -319,8 +313,11 @@ namespace nlmech
             const Eigen::VectorXd rest  = sim.shell().rest_positions;
             const double          e0    = sim.energy().total();
             double                worst = -1, newton = 0, projection = 0;
-            unsigned int          iterations = 0, projections = 0;
-            auto                  record = [&](unsigned int step, const ClothStepStatistics &st) {
+            double       worst_curve = -std::numeric_limits<double>::infinity(), worst_curve_time = 0;
+            unsigned int iterations = 0, projections = 0;
+            std::size_t  cuts = 0;
+            outcome.reached   = largest_stretch_per_direction(limits, sim.positions());
+            auto record       = [&](unsigned int step, const ClothStepStatistics &st) {
               const ClothEnergy e = sim.energy();
               csv << to_string(s.scheme) << "," << step << "," << sim.time() << "," << e.kinetic << ","
                   << e.elastic << "," << e.gravity << "," << e.contact << "," << e.total() << ","
@@ -350,6 +347,12 @@ namespace nlmech
                   }
                 record(step, st);
                 worst = std::max(worst, st.violation);
+                cuts += st.cuts;
+                if (std::isfinite(st.curve_excess) && st.curve_excess > worst_curve)
+                  worst_curve = st.curve_excess, worst_curve_time = sim.time();
+                const std::vector<double> now = largest_stretch_per_direction(limits, sim.positions());
+                for (std::size_t d = 0; d < now.size(); ++d)
+                  outcome.reached[d] = std::max(outcome.reached[d], now[d]);
                 newton += st.newton_seconds, projection += st.projection_seconds;
                 iterations += st.projection_iterations, projections += st.projections;
                 if (k == 0 && frames > 0 && step % std::max(1u, steps / frames) == 0)
@@ -358,11 +361,28 @@ namespace nlmech
                   progress.report(double(done * steps + step),
                                   to_string(s.scheme) + " t = " + std::to_string(sim.time()) + " s");
               }
-            outcome.index = k;
-            outcome.csv   = csv.str();
+            outcome.index          = k;
+            outcome.csv            = csv.str();
+            const std::string name = to_string(s.scheme);
+            if (uses_projection(s.scheme) && std::isfinite(worst_curve))
+              {
+                // How far any direction went past the curve (between the samples too), over the run.
+                outcome.figures.push_back({"max_curve_excess_" + name, worst_curve, "1"});
+                outcome.figures.push_back({"curve_cuts_" + name, double(cuts), "1"});
+                char line[320];
+                std::snprintf(line, sizeof line,
+                              "%s: the largest stretch beyond the limit curve in any direction is %.3g of "
+                              "the requested strain (at t = %.4g s; tolerance %.3g), %zu cutting planes",
+                              name.c_str(), std::max(0.0, worst_curve), worst_curve_time, curve_tolerance,
+                              cuts);
+                outcome.message = line;
+                if (curve_tolerance > 0 && worst_curve > curve_tolerance * (1 + 1e-6) + 1e-9)
+                  outcome.check_failure =
+                      name + " exceeded the limit curve by " + std::to_string(worst_curve) +
+                      " of the requested strain (tolerance " + std::to_string(curve_tolerance) + ")";
+              }
             if (outcome.error.empty())
               {
-                const std::string name = to_string(s.scheme);
                 outcome.figures.push_back({"energy_lost_" + name, e0 - sim.energy().total(), "J"});
                 outcome.figures.push_back({"newton_seconds_per_step_" + name, newton / steps, "s"});
                 if (uses_projection(s.scheme))
@@ -374,6 +394,8 @@ namespace nlmech
                         {"projection_iterations_per_solve_" + name, double(iterations) / projections, "1"});
                   }
                 std::ostringstream message;
+                if (!outcome.message.empty())
+                  message << outcome.message << "\n";
                 message << name << ": energy lost " << e0 - sim.energy().total() << " J over " << end_time
                         << " s, largest violation " << worst << ", " << newton / steps << " s Newton and "
                         << (projections ? projection / projections : 0.0) << " s per projection";
@@ -392,27 +414,58 @@ namespace nlmech
         std::string all_csv =
             "scheme,step,time,kinetic,elastic,gravity,contact,total,violation,newton_seconds,projection_"
             "seconds,projection_iterations\n";
-        std::string error;
+        std::string              error;
+        std::vector<std::string> completed, failed;
+        std::ostringstream       reached;
+        reached << std::setprecision(12) << "alpha,limit";
+        for (const auto &o : outcomes)
+          reached << "," << to_string(schemes[o.index]);
+        reached << "\n";
+        for (std::size_t d = 0; d < limits.grid_angle.size() && !outcomes.empty(); ++d)
+          {
+            reached << limits.grid_angle[d] << "," << limits.grid_bound[d];
+            for (const auto &o : outcomes)
+              reached << "," << (d < o.reached.size() ? o.reached[d] : 0.0);
+            reached << "\n";
+          }
         for (const auto &o : outcomes)
           {
             all_csv += o.csv;
-            if (!o.error.empty())
-              {
-                if (error.empty())
-                  error = o.error;
-                continue;
-              }
+            // A scheme that stopped keeps its rows and figures up to there; the others are complete.
             for (const auto &f : o.figures)
               context.summary.add_figure(f.name, f.value, f.unit);
-            context.pcout << o.message << std::endl;
+            if (!o.message.empty())
+              context.pcout << o.message << std::endl;
+            if (!o.check_failure.empty())
+              context.fail_check(o.check_failure);
+            if (!o.error.empty())
+              {
+                failed.push_back(to_string(schemes[o.index]));
+                context.pcout << "nlmech: " << o.error << std::endl;
+                if (error.empty())
+                  error = o.error;
+              }
+            else
+              completed.push_back(to_string(schemes[o.index]));
           }
         error = Utilities::MPI::broadcast(context.comm, error, 0);
+        {
+          // Every rank exits with the same status: the failed checks found on rank 0.
+          std::string checks;
+          for (const auto &c : context.failed_checks)
+            checks += c + "\n";
+          checks = Utilities::MPI::broadcast(context.comm, checks, 0);
+          if (!context.is_root())
+            for (const auto &c : Utilities::split_string_list(checks, '\n'))
+              if (!c.empty())
+                context.failed_checks.push_back(c);
+        }
+        if (context.is_root())
+          write_file_atomically(context.output.file("stretch_reached.csv"), reached.str());
+        context.summary.add_strings("completed_schemes", completed);
+        context.summary.add_strings("failed_schemes", failed);
         if (!error.empty())
-          {
-            write_results(context, all_csv, frame_times, frame_fields, mesh);
-            context.partial_reason = error;
-            throw std::runtime_error(error);
-          }
+          context.partial_reason = error + (completed.empty() ? "" : " (the other schemes completed)");
         context.summary.add_number("mpi_ranks", n_ranks);
         context.summary.add_number("vertices", mesh.vertices.size());
         context.summary.add_number("triangles", mesh.cells.size());
@@ -422,6 +475,81 @@ namespace nlmech
       }
 
     private:
+      /// b(alpha): the formula, or the samples interpolated linearly and periodically over pi.
+      double limit_at(const double alpha) const
+      {
+        if (limit_samples.empty())
+          return limit_function->value(Point<1>(alpha));
+        const double a = std::fmod(std::fmod(alpha, numbers::PI) + numbers::PI, numbers::PI);
+        const auto   n = limit_samples.size();
+        for (std::size_t k = 0; k < n; ++k)
+          {
+            const auto  &lo = limit_samples[k];
+            const auto  &hi = limit_samples[(k + 1) % n];
+            const double a0 = lo.first, a1 = k + 1 < n ? hi.first : hi.first + numbers::PI;
+            const double aa = a < a0 ? a + numbers::PI : a;
+            if (n == 1 || (aa >= a0 && aa <= a1))
+              return n == 1 ? lo.second : lo.second + (hi.second - lo.second) * (aa - a0) / (a1 - a0);
+          }
+        return limit_samples.front().second;
+      }
+
+      /// The sheet's vertices nearest to the pinned points (each within half a cell of one).
+      std::vector<unsigned int> pinned_vertices(const RawSimplexMesh<3> &mesh) const
+      {
+        std::vector<unsigned int> pinned;
+        const double              cell = size / resolution;
+        for (const auto &p : pinned_points)
+          {
+            unsigned int best = 0;
+            double       d    = 1e300;
+            for (unsigned int v = 0; v < mesh.vertices.size(); ++v)
+              {
+                const double dv = mesh.vertices[v].distance(Point<3>(p[0], p[1], p[2]));
+                if (dv < d)
+                  d = dv, best = v;
+              }
+            AssertThrow(d <= 0.5 * cell,
+                        ExcMessage("Pinned points: (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) +
+                                   ", " + std::to_string(p[2]) + ") is not on the sheet."));
+            pinned.push_back(best);
+          }
+        return pinned;
+      }
+
+      /// Refused before any step: a limit curve below 1 or not finite anywhere (a fine grid, not only
+      /// the sampled directions), and pins moved farther apart than any state within the limits
+      /// allows (no triangle stretches beyond the largest limit, plus the curve tolerance, or
+      /// b_max / cos(pi / 2n) when only the n sampled directions are held).
+      void validate() const override
+      {
+        const auto limit = [this](double alpha) { return limit_at(alpha); };
+        check_limit_curve(limit);
+        const RawSimplexMesh<3>         mesh   = make_sheet_mesh(size, resolution);
+        const std::vector<unsigned int> pinned = pinned_vertices(mesh);
+        double                          b_max  = 1;
+        for (int k = 0; k < 3600; ++k)
+          b_max = std::max(b_max, limit(-numbers::PI / 2 + k * numbers::PI / 3600));
+        const double allowed = curve_tolerance > 0 ? b_max + curve_tolerance * (b_max - 1)
+                                                   : b_max / std::cos(numbers::PI / (2 * directions));
+        for (std::size_t a = 0; a < pinned.size() && !pin_offsets.empty(); ++a)
+          for (std::size_t b = a + 1; b < pinned.size(); ++b)
+            {
+              const Point<3> pa = mesh.vertices[pinned[a]], pb = mesh.vertices[pinned[b]];
+              const double   rest = pa.distance(pb);
+              Point<3>       qa = pa, qb = pb;
+              for (unsigned int d = 0; d < 3; ++d)
+                qa[d] += pin_offsets[a][d], qb[d] += pin_offsets[b][d];
+              const double       ratio = qa.distance(qb) / rest;
+              std::ostringstream what;
+              what << "Strain limits cannot hold: the pins are farther apart than the limits allow (pins "
+                   << a + 1 << " and " << b + 1 << " are moved to " << ratio
+                   << " times their rest distance; no state within the limits stretches the sheet beyond "
+                   << allowed << ").";
+              AssertThrow(rest == 0 || ratio <= allowed, ExcMessage(what.str()));
+            }
+      }
+
       void write_results(RunContext &context, const std::string &csv, const std::vector<double> &times,
                          const std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> &fields,
                          const RawSimplexMesh<3>                                                 &mesh) const
@@ -434,7 +562,8 @@ namespace nlmech
         const std::string command =
             std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR + "/contrib/plot/biphasic.py' '" +
             context.output.file("energy.csv") + "' '" + context.output.file("limits.csv") + "' '" +
-            context.output.file("energy.png") + "' '" + context.output.file("limits.png") + "'";
+            context.output.file("energy.png") + "' '" + context.output.file("limits.png") + "' '" +
+            context.output.file("stretch_reached.csv") + "'";
         if (std::system(command.c_str()) != 0)
           std::cerr << "nlmech: warning: the energy and limit plots could not be drawn (python3/matplotlib)."
                     << std::endl;
@@ -450,7 +579,8 @@ namespace nlmech
       std::vector<ClothScheme>               schemes;
       ClothSettings                          settings;
       ConicSettings                          cone_settings;
-      double                                 end_time = 2;
+      double                                 end_time        = 2;
+      double                                 curve_tolerance = 0.1;
     };
   } // namespace
 

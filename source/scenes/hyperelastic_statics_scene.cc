@@ -119,11 +119,7 @@ namespace nlmech
                     ExcMessage("The ANM tolerances must be positive (and the series tolerance below 1)."));
       }
 
-      void validate() const override
-      {
-        AssertThrow(std::filesystem::exists(mesh.file),
-                    ExcMessage("The mesh file <" + mesh.file + "> does not exist."));
-      }
+      void validate() const override { mesh.check_exists(); }
 
       void run(RunContext &context) override
       {
@@ -139,7 +135,7 @@ namespace nlmech
                       << std::endl;
         context.summary.add_number("n_vertices", raw.vertices.size());
         context.summary.add_number("n_tetrahedra", raw.cells.size());
-        context.summary.add_figure("total_load", problem.load.norm(), "N");
+        context.summary.add_figure("total_force", resultant_force(problem.load).norm(), "N");
 
         std::vector<std::pair<std::string, Eigen::VectorXd>> fields;
         Eigen::VectorXd                                      x_anm, x_newton;

@@ -2,7 +2,8 @@
 """Runs an nlmech scene and checks figures of its summary.json against stated bounds.
 
 usage: check_scene.py --nlmech BIN --prm FILE [--np N] --expect 'KEY OP VALUE' ... [--expect-file NAME ...]
-KEY names a summary.json entry ({"value": v, "unit": u} or a plain number); OP is <, <=, >, >=.
+KEY names a summary.json entry ({"value": v, "unit": u} or a plain number), `a.b` one inside object a;
+OP is <, <=, >, >=, ==.
 The run goes to a fresh temporary folder; exit status 0 only if the run succeeds and every check holds.
 """
 import argparse
@@ -14,7 +15,7 @@ import subprocess
 import sys
 import tempfile
 
-OPS = {"<=": operator.le, ">=": operator.ge, "<": operator.lt, ">": operator.gt}
+OPS = {"<=": operator.le, ">=": operator.ge, "<": operator.lt, ">": operator.gt, "==": operator.eq}
 
 
 def mpi_prefix(n):
@@ -47,7 +48,9 @@ def main():
         failures = 0
         for expectation in args.expect:
             key, op, bound = expectation.split()
-            entry = summary[key]
+            entry = summary
+            for part in key.split("."):
+                entry = entry[part]
             value = entry["value"] if isinstance(entry, dict) else entry
             ok = OPS[op](value, float(bound))
             failures += not ok

@@ -17,6 +17,7 @@ namespace nlmech
     void add_bool(const std::string &key, bool value);
     void add_object(const std::string &key, const JsonObject &object);
     void add_numbers(const std::string &key, const std::vector<double> &values);
+    void add_strings(const std::string &key, const std::vector<std::string> &values);
 
     std::string to_string(unsigned int indent = 0) const;
     bool        empty() const { return entries.empty(); }

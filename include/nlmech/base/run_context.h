@@ -12,6 +12,7 @@
 
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace nlmech
 {
@@ -29,6 +30,13 @@ namespace nlmech
     /// Set by a scene whose solve stopped early but left consistent partial results: the results are
     /// kept (marked "status": "partial" in summary.json) and the run still exits with an error.
     std::string partial_reason;
+    /// The run's own verifications that failed (a forward round trip above its tolerance, a Newmark
+    /// check that disagrees with the periodic state, an unstable designed equilibrium): the results
+    /// are kept, summary.json says "status": "check_failed" and lists them, and the run exits with 1.
+    std::vector<std::string> failed_checks;
+
+    /// Records a failed verification (see failed_checks) and says so on stderr (rank 0).
+    void fail_check(const std::string &what);
 
     bool is_root() const;
   };

@@ -315,6 +315,7 @@ namespace nlmech
     stats.projection_iterations += r.iterations;
     ++stats.projections;
     stats.projection_status = r.status;
+    stats.cuts += r.cuts_added;
     AssertThrow(
         r.status != ConicStatus::primal_infeasible,
         dealii::ExcMessage("Strain limiting: the limits cannot be met together with the pinned vertices "
@@ -386,7 +387,10 @@ namespace nlmech
                 dealii::ExcMessage("Cloth: the state became non-finite (time step too large?)."));
     x_previous = x0, v_previous = v0, has_history = true;
     t += h;
-    stats.violation = limits.size() > 0 ? max_violation(limits, x) : 0.0;
+    const StrainLimits &held = current_limits();
+    stats.violation          = held.size() > 0 ? max_violation(held, x) : 0.0;
+    if (held.size() > 0 && held.curve)
+      stats.curve_excess = max_curve_excess(held, x);
     return stats;
   }
 

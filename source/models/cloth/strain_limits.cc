@@ -46,28 +46,57 @@ namespace nlmech
     return mesh;
   }
 
+  void check_limit_curve(const std::function<double(double)> &limit, const unsigned int grid)
+  {
+    for (unsigned int k = 0; k < grid; ++k)
+      {
+        const double alpha = -pi / 2 + k * pi / grid, b = limit(alpha);
+        char         where[96];
+        std::snprintf(where, sizeof where, "%.2f degrees (alpha = %.6g rad)", alpha * 180 / pi, alpha);
+        AssertThrow(std::isfinite(b), dealii::ExcMessage("Strain limits: the limit at " + std::string(where) +
+                                                         " is not finite."));
+        AssertThrow(b >= 1,
+                    dealii::ExcMessage(
+                        "Strain limits: the stretch limit " + std::to_string(b) + " at " + where +
+                        " is below 1 (checked on " + std::to_string(grid) +
+                        " directions, not only the sampled ones). That bounds compression, |F d| >= b, "
+                        "whose feasible set is not convex (the outside of an ellipsoid), so the "
+                        "projection would lose its unique solution. Limits must be stretches b >= 1."));
+      }
+  }
+
+  void StrainLimits::add(const unsigned int t, const double alpha)
+  {
+    const Eigen::Vector2d c = dm_inverse[t] * Eigen::Vector2d(std::cos(alpha), std::sin(alpha));
+    vertices.push_back(triangles[t]);
+    coefficients.push_back({{-(c[0] + c[1]), c[0], c[1]}});
+    bound.push_back(curve(alpha));
+    angle.push_back(alpha);
+    triangle.push_back(t);
+  }
+
   StrainLimits make_strain_limits(const RawSimplexMesh<3> &mesh, const std::array<double, 3> &warp,
                                   const std::array<double, 3> &weft, const unsigned int directions,
-                                  const std::function<double(double)> &limit)
+                                  const std::function<double(double)> &limit, const double curve_tolerance,
+                                  const unsigned int grid)
   {
     AssertThrow(directions >= 1, dealii::ExcMessage("Strain limits: at least one direction per triangle."));
-    std::vector<double> alpha(directions), bound(directions);
-    for (unsigned int j = 0; j < directions; ++j)
-      {
-        alpha[j] = -pi / 2 + (j + 0.5) * pi / directions;
-        bound[j] = limit(alpha[j]);
-        AssertThrow(std::isfinite(bound[j]),
-                    dealii::ExcMessage("Strain limits: the limit at alpha = " + std::to_string(alpha[j]) +
-                                       " rad is not finite."));
-        AssertThrow(bound[j] >= 1,
-                    dealii::ExcMessage(
-                        "Strain limits: the stretch limit " + std::to_string(bound[j]) +
-                        " at alpha = " + std::to_string(alpha[j]) +
-                        " rad is below 1. That bounds compression, |F d| >= b, whose feasible set is not "
-                        "convex (the outside of an ellipsoid), so the projection would lose its unique "
-                        "solution. Limits must be stretches b >= 1."));
-      }
+    AssertThrow(curve_tolerance >= 0 && grid >= 8,
+                dealii::ExcMessage("Strain limits: the curve tolerance must not be negative."));
+    check_limit_curve(limit, std::max(grid, 3600u));
     StrainLimits limits;
+    limits.curve           = limit;
+    limits.curve_tolerance = curve_tolerance;
+    limits.smallest_bound  = std::numeric_limits<double>::infinity();
+    for (unsigned int k = 0; k < grid; ++k)
+      {
+        limits.grid_angle.push_back(-pi / 2 + k * pi / grid);
+        limits.grid_bound.push_back(limit(limits.grid_angle.back()));
+        limits.smallest_bound = std::min(limits.smallest_bound, limits.grid_bound.back());
+      }
+    std::vector<double> alpha(directions);
+    for (unsigned int j = 0; j < directions; ++j)
+      alpha[j] = -pi / 2 + (j + 0.5) * pi / directions;
     for (const auto &cell : mesh.cells)
       {
         // Material coordinates of the rest triangle and D_m = [X_1 - X_0, X_2 - X_0].
@@ -82,17 +111,124 @@ namespace nlmech
         Dm << X[1][0] - X[0][0], X[2][0] - X[0][0], X[1][1] - X[0][1], X[2][1] - X[0][1];
         AssertThrow(std::abs(Dm.determinant()) > 1e-14 * Dm.squaredNorm(),
                     dealii::ExcMessage("Strain limits: a degenerate rest triangle in the material frame."));
-        const Eigen::Matrix2d Dinv = Dm.inverse();
+        limits.triangles.push_back({{cell[0], cell[1], cell[2]}});
+        limits.dm_inverse.push_back(Dm.inverse());
         for (unsigned int j = 0; j < directions; ++j)
-          {
-            const Eigen::Vector2d c = Dinv * Eigen::Vector2d(std::cos(alpha[j]), std::sin(alpha[j]));
-            limits.vertices.push_back({{cell[0], cell[1], cell[2]}});
-            limits.coefficients.push_back({{-(c[0] + c[1]), c[0], c[1]}});
-            limits.bound.push_back(bound[j]);
-            limits.angle.push_back(alpha[j]);
-          }
+          limits.add(unsigned(limits.triangles.size() - 1), alpha[j]);
       }
+    limits.sampled = limits.size();
     return limits;
+  }
+
+  namespace
+  {
+    /// C = F^T F of a triangle at x (F = [x_1 - x_0, x_2 - x_0] D_m^-1, 3 x 2).
+    Eigen::Matrix2d right_cauchy_green(const StrainLimits &limits, const std::size_t t,
+                                       const Eigen::VectorXd &x)
+    {
+      const auto                 &v = limits.triangles[t];
+      Eigen::Matrix<double, 3, 2> E;
+      E.col(0)                            = x.segment<3>(3 * v[1]) - x.segment<3>(3 * v[0]);
+      E.col(1)                            = x.segment<3>(3 * v[2]) - x.segment<3>(3 * v[0]);
+      const Eigen::Matrix<double, 3, 2> F = E * limits.dm_inverse[t];
+      return F.transpose() * F;
+    }
+
+    double stretch(const Eigen::Matrix2d &C, const double alpha)
+    {
+      const double c = std::cos(alpha), s = std::sin(alpha);
+      return std::sqrt(std::max(0.0, C(0, 0) * c * c + 2 * C(0, 1) * c * s + C(1, 1) * s * s));
+    }
+
+    /// The requested strain b - 1, floored so that a limit of exactly 1 keeps a finite tolerance.
+    double strain_scale(const double b)
+    {
+      return std::max(b - 1, 1e-4);
+    }
+
+    /// The largest singular value of F (square root of C's largest eigenvalue).
+    double largest_stretch(const Eigen::Matrix2d &C)
+    {
+      const double mean = 0.5 * (C(0, 0) + C(1, 1)), half = 0.5 * (C(0, 0) - C(1, 1));
+      return std::sqrt(std::max(0.0, mean + std::sqrt(half * half + C(0, 1) * C(0, 1))));
+    }
+  } // namespace
+
+  std::vector<CurveExcess> curve_excesses(const StrainLimits &limits, const Eigen::VectorXd &x,
+                                          const double tolerance, double *worst)
+  {
+    std::vector<CurveExcess> out;
+    double                   largest = -std::numeric_limits<double>::infinity();
+    const std::size_t        n       = limits.grid_angle.size();
+    AssertThrow(n > 0 && limits.curve, dealii::ExcMessage("Strain limits: no limit curve to check."));
+    const double b_min = limits.smallest_bound, s_min = strain_scale(b_min);
+    for (std::size_t t = 0; t < limits.triangles.size(); ++t)
+      {
+        const Eigen::Matrix2d C     = right_cauchy_green(limits, t, x);
+        const double          sigma = largest_stretch(C);
+        // For |F d| >= 1 the excess (|F d| - b) / (b - 1) falls as b grows, so it is at most
+        // (sigma - b_min) / (b_min - 1); for |F d| < 1 it is below -1. Skip the triangles that can
+        // neither exceed the tolerance nor (when the largest excess is asked for) beat it.
+        const double bound = std::max((sigma - b_min) / s_min, -1.0);
+        if (bound <= (worst ? std::min(tolerance, largest) : tolerance))
+          continue;
+        auto        excess = [&](double a, double b) { return (stretch(C, a) - b) / strain_scale(b); };
+        std::size_t best   = 0;
+        double      top    = -std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < n; ++k)
+          {
+            const double e = excess(limits.grid_angle[k], limits.grid_bound[k]);
+            if (e > top)
+              top = e, best = k;
+          }
+        // Golden-section refinement between the neighbouring grid directions.
+        const double h  = pi / double(n);
+        double       lo = limits.grid_angle[best] - h, hi = limits.grid_angle[best] + h;
+        const double g  = 0.5 * (std::sqrt(5.0) - 1);
+        double       a1 = hi - g * (hi - lo), a2 = lo + g * (hi - lo);
+        double       e1 = excess(a1, limits.curve(a1)), e2 = excess(a2, limits.curve(a2));
+        for (int it = 0; it < 30 && hi - lo > 1e-9; ++it)
+          if (e1 > e2)
+            hi = a2, a2 = a1, e2 = e1, a1 = hi - g * (hi - lo), e1 = excess(a1, limits.curve(a1));
+          else
+            lo = a1, a1 = a2, e1 = e2, a2 = lo + g * (hi - lo), e2 = excess(a2, limits.curve(a2));
+        double alpha = e1 > e2 ? a1 : a2, e = std::max(e1, e2);
+        if (top > e)
+          alpha = limits.grid_angle[best], e = top;
+        // Directions are defined modulo pi.
+        alpha   = std::remainder(alpha, pi);
+        largest = std::max(largest, e);
+        if (e > tolerance)
+          out.push_back({unsigned(t), alpha, e, stretch(C, alpha)});
+      }
+    if (worst)
+      *worst = largest;
+    return out;
+  }
+
+  double max_curve_excess(const StrainLimits &limits, const Eigen::VectorXd &x)
+  {
+    double worst = 0;
+    curve_excesses(limits, x, std::numeric_limits<double>::infinity(), &worst);
+    return worst;
+  }
+
+  std::vector<double> largest_stretch_per_direction(const StrainLimits &limits, const Eigen::VectorXd &x)
+  {
+    std::vector<double> out(limits.grid_angle.size(), 0.0);
+    std::vector<double> c(out.size()), s(out.size());
+    for (std::size_t k = 0; k < out.size(); ++k)
+      c[k] = std::cos(limits.grid_angle[k]), s[k] = std::sin(limits.grid_angle[k]);
+    for (std::size_t t = 0; t < limits.triangles.size(); ++t)
+      {
+        const Eigen::Matrix2d C = right_cauchy_green(limits, t, x);
+        for (std::size_t k = 0; k < out.size(); ++k)
+          out[k] =
+              std::max(out[k], C(0, 0) * c[k] * c[k] + 2 * C(0, 1) * c[k] * s[k] + C(1, 1) * s[k] * s[k]);
+      }
+    for (auto &v : out)
+      v = std::sqrt(std::max(0.0, v));
+    return out;
   }
 
   namespace
@@ -118,6 +254,7 @@ namespace nlmech
                                              const std::map<std::size_t, double> &fixed,
                                              ConicSettings settings, const double screening)
       : limits(limits)
+      , cuts_of_triangle(limits.triangles.size(), 0)
       , mass(mass)
       , fixed(fixed)
       , settings(settings)
@@ -141,6 +278,37 @@ namespace nlmech
     for (const std::size_t i : free_dofs)
       mass_scale += mass[Eigen::Index(i)];
     mass_scale = free_dofs.empty() ? 1.0 : mass_scale / double(free_dofs.size());
+    row_order.resize(this->limits.size());
+    for (std::size_t i = 0; i < row_order.size(); ++i)
+      row_order[i] = i;
+  }
+
+  std::size_t StrainLimitProjector::add_cuts(const Eigen::VectorXd &x, double &excess)
+  {
+    excess = 0;
+    if (!limits.curve || limits.curve_tolerance <= 0 || limits.triangles.empty())
+      return 0;
+    const auto  over  = curve_excesses(limits, x, limits.curve_tolerance, &excess);
+    std::size_t added = 0;
+    for (const auto &e : over)
+      {
+        if (cuts_of_triangle[e.triangle] >= max_cuts_per_triangle)
+          continue;
+        limits.add(e.triangle, e.alpha);
+        ++cuts_of_triangle[e.triangle], ++added;
+      }
+    if (added == 0)
+      return 0;
+    // Rows grouped by triangle, so that each triangle's cones share their columns in the problem.
+    row_order.resize(limits.size());
+    for (std::size_t i = 0; i < row_order.size(); ++i)
+      row_order[i] = i;
+    std::stable_sort(row_order.begin(), row_order.end(),
+                     [&](std::size_t a, std::size_t b) { return limits.triangle[a] < limits.triangle[b]; });
+    previously_active.resize(limits.size(), 0);
+    if (!previous_z.empty())
+      previous_z.resize(4 * limits.size(), 0.0);
+    return added;
   }
 
   Eigen::VectorXd StrainLimitProjector::full(const Eigen::VectorXd &free_values) const
@@ -196,7 +364,7 @@ namespace nlmech
     p.h = Eigen::VectorXd::Zero(Eigen::Index(4 * m));
     p.cones.assign(m, 4);
     std::size_t row = 0;
-    for (std::size_t i = 0; i < limits.size(); ++i)
+    for (const std::size_t i : row_order)
       {
         if (!include[i])
           continue;
@@ -235,7 +403,10 @@ namespace nlmech
         previously_active[i] = image(limits, i, x).norm() >= (1 - 1e-3) * limits.bound[i];
     };
     const double candidate_violation = max_violation(limits, x);
+    // A candidate that meets every row but not the curve between them gets its cuts and is solved.
     if (candidate_violation <= 0)
+      result.cuts_added = add_cuts(x, result.curve_excess);
+    if (candidate_violation <= 0 && result.cuts_added == 0)
       {
         remember_active();
         if (settings.warm_mu > 0)
@@ -284,7 +455,7 @@ namespace nlmech
               {
                 z0.resize(p.h.size());
                 Eigen::Index row = 0;
-                for (std::size_t i = 0; i < limits.size(); ++i)
+                for (const std::size_t i : row_order)
                   if (include[i])
                     for (int k = 0; k < 4; ++k)
                       z0[row++] = previous_z[4 * i + std::size_t(k)];
@@ -307,7 +478,7 @@ namespace nlmech
               {
                 previous_z.assign(4 * limits.size(), 0.0);
                 Eigen::Index row = 0;
-                for (std::size_t i = 0; i < limits.size(); ++i)
+                for (const std::size_t i : row_order)
                   if (include[i])
                     for (int k = 0; k < 4; ++k)
                       previous_z[4 * i + std::size_t(k)] = r.z[row++];
@@ -333,7 +504,23 @@ namespace nlmech
                 near_vertex[v] = 1;
             }
         if (added == 0)
-          break;
+          {
+            // Every row holds: cut where the curve between them is still exceeded, and go again.
+            if (result.status != ConicStatus::solved && result.status != ConicStatus::almost_solved)
+              break;
+            const std::size_t before = limits.size();
+            const std::size_t cuts   = add_cuts(x, result.curve_excess);
+            if (cuts == 0)
+              break;
+            result.cuts_added += cuts;
+            include.resize(limits.size(), 0);
+            for (std::size_t i = before; i < limits.size(); ++i)
+              {
+                include[i] = 1;
+                for (const unsigned int v : limits.vertices[i])
+                  near_vertex[v] = 1;
+              }
+          }
         for (std::size_t i = 0; i < limits.size(); ++i)
           if (!include[i])
             for (const unsigned int v : limits.vertices[i])
@@ -350,7 +537,9 @@ namespace nlmech
     if (result.status == ConicStatus::solved || result.status == ConicStatus::almost_solved)
       {
         result.violation = max_violation(limits, x);
-        double d2        = 0;
+        if (limits.curve && !limits.triangles.empty())
+          result.curve_excess = max_curve_excess(limits, x);
+        double d2 = 0;
         for (const std::size_t i : free_dofs)
           d2 += mass[Eigen::Index(i)] * std::pow(x[Eigen::Index(i)] - x_hat[Eigen::Index(i)], 2);
         result.distance = std::sqrt(d2);

@@ -79,4 +79,12 @@ namespace nlmech
                 dealii::ExcMessage("No boundary conditions: the structure is free to move as a rigid body."));
     return problem;
   }
+
+  Eigen::Vector3d resultant_force(const Eigen::VectorXd &nodal_loads)
+  {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (Eigen::Index i = 0; i + 2 < nodal_loads.size(); i += 3)
+      sum += nodal_loads.segment<3>(i);
+    return sum;
+  }
 } // namespace nlmech

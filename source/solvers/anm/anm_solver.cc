@@ -388,15 +388,18 @@ namespace nlmech
                 previous_lambda1 += weight * lambdas[k];
               }
 
-            if (final)
-              return finish(true, "reached lambda = " + std::to_string(lambda_target));
-            // The extreme load factor along the whole step: the series may pass a limit point mid-step.
+            // The extreme load factor along the whole step, the last one included: the series may pass
+            // a limit point mid-step.
             for (int sample = 1; sample <= 1000; ++sample)
               {
                 const double l = lambda_at(a * sample / 1000.0);
                 highest_lambda =
                     direction_of_target > 0 ? std::max(highest_lambda, l) : std::min(highest_lambda, l);
               }
+            highest_lambda =
+                direction_of_target > 0 ? std::max(highest_lambda, lambda) : std::min(highest_lambda, lambda);
+            if (final)
+              return finish(true, "reached lambda = " + std::to_string(lambda_target));
             if (direction_of_target * (highest_lambda - lambda) >
                 0.05 * std::abs(lambda_target - lambda_start))
               {

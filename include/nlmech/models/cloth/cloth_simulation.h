@@ -20,6 +20,7 @@
 #include <nlmech/models/cloth/strain_limits.h>
 #include <nlmech/models/dynamics/thin_shell.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -66,8 +67,12 @@ namespace nlmech
   {
     double       newton_seconds = 0, projection_seconds = 0;
     unsigned int newton_iterations = 0, projections = 0, projection_iterations = 0;
-    double       violation         = 0; // after the step (relative, <= 0 when every limit holds)
-    ConicStatus  projection_status = ConicStatus::solved;
+    double       violation = 0; // after the step (relative, <= 0 when every limit holds)
+    /// After the step: the largest excess over the limit curve between the sampled directions,
+    /// relative to the requested strain (<= the curve tolerance when it holds; NaN without limits).
+    double      curve_excess      = std::numeric_limits<double>::quiet_NaN();
+    std::size_t cuts              = 0; // cutting planes the step's projections added
+    ConicStatus projection_status = ConicStatus::solved;
   };
 
   struct ClothEnergy
@@ -79,6 +84,8 @@ namespace nlmech
   class ClothSimulation
   {
   public:
+    /// The limits as projected on: the sampled rows and the cuts added so far.
+    const StrainLimits &current_limits() const { return projector ? projector->current_limits() : limits; }
     /// `limits` may be empty (no projection); the schemes with projection need it non-empty.
     /// `pinned` vertices stay at their rest positions moved by `pin_offsets` (one per pinned vertex,
     /// or none): grips that stretch the sheet from the start.

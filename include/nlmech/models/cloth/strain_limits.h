@@ -19,6 +19,7 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -29,23 +30,66 @@ namespace nlmech
   /// along z. Vertex (i, j) (i along x, j along z) has index j (n + 1) + i.
   RawSimplexMesh<3> make_sheet_mesh(double size, unsigned int n);
 
-  /// One stretch limit per (triangle, direction): |c_0 x_a + c_1 x_b + c_2 x_c| <= bound.
+  /// One stretch limit per (triangle, direction): |c_0 x_a + c_1 x_b + c_2 x_c| <= bound. The rows
+  /// sample the limit curve b(alpha); `curve` and the triangles' D_m^-1 let the curve itself be
+  /// checked between the samples and further rows (cutting planes) be added where it is exceeded.
   struct StrainLimits
   {
     std::vector<std::array<unsigned int, 3>> vertices;
     std::vector<std::array<double, 3>>       coefficients;
     std::vector<double>                      bound;
-    std::vector<double>                      angle; // alpha [rad], in the material frame
+    std::vector<double>                      angle;    // alpha [rad], in the material frame
+    std::vector<unsigned int>                triangle; // the row's triangle
     std::size_t                              size() const { return bound.size(); }
+
+    /// Per triangle: its vertices and D_m^-1 (material frame).
+    std::vector<std::array<unsigned int, 3>> triangles;
+    std::vector<Eigen::Matrix2d>             dm_inverse;
+    /// The limit curve b(alpha) the rows sample.
+    std::function<double(double)> curve;
+    /// The curve is held to this fraction of the requested strain b(alpha) - 1 between the samples
+    /// (cutting planes in StrainLimitProjector); 0: the sampled rows only.
+    double curve_tolerance = 0.1;
+    /// b on a fine grid alpha_k = -pi/2 + k pi / n (k < n) and its smallest value.
+    std::vector<double> grid_angle, grid_bound;
+    double              smallest_bound = 1;
+    /// Rows made from the sampled directions; rows after them are cuts.
+    std::size_t sampled = 0;
+
+    /// Appends a row |F d(alpha)| <= b(alpha) for `triangle`.
+    void add(unsigned int triangle, double alpha);
   };
 
   /// Samples the polar limit curve b(alpha) at `directions` angles alpha_j = -pi/2 + (j + 1/2)
   /// pi / directions in every triangle. Material coordinates: the rest positions' components along
   /// `warp` and `weft` (unit vectors in the sheet's plane). Throws for b < 1 (compression bounds are
-  /// not convex) or a non-finite b.
+  /// not convex) or a non-finite b anywhere on a grid of `grid` directions, not only at the samples.
   StrainLimits make_strain_limits(const RawSimplexMesh<3> &mesh, const std::array<double, 3> &warp,
                                   const std::array<double, 3> &weft, unsigned int directions,
-                                  const std::function<double(double)> &limit);
+                                  const std::function<double(double)> &limit, double curve_tolerance = 0.1,
+                                  unsigned int grid = 360);
+
+  /// Checks b(alpha) >= 1 and finite on `grid` directions over [-pi/2, pi/2); throws naming the first
+  /// direction where it is not.
+  void check_limit_curve(const std::function<double(double)> &limit, unsigned int grid = 3600);
+
+  /// Where a triangle's stretch exceeds the curve: its direction of largest excess and the excess
+  /// (|F d| - b) / (b - 1), relative to the requested strain.
+  struct CurveExcess
+  {
+    unsigned int triangle = 0;
+    double       alpha = 0, excess = 0, stretch = 0;
+  };
+  /// Every triangle whose excess somewhere exceeds `tolerance` (>= 0), with its worst direction
+  /// (grid search refined by golden section). `worst` (optional) receives the largest excess of
+  /// any triangle, also when it is below the tolerance (-infinity when no triangle reaches its
+  /// smallest limit).
+  std::vector<CurveExcess> curve_excesses(const StrainLimits &limits, const Eigen::VectorXd &x,
+                                          double tolerance, double *worst = nullptr);
+  /// The largest excess over all triangles and directions (<= 0 inside the curve).
+  double max_curve_excess(const StrainLimits &limits, const Eigen::VectorXd &x);
+  /// Per direction of the fine grid (limits.grid_angle): the largest stretch |F d| of any triangle.
+  std::vector<double> largest_stretch_per_direction(const StrainLimits &limits, const Eigen::VectorXd &x);
 
   /// Largest relative violation max_i (|A_i x| - b_i) / b_i (<= 0 when every limit holds).
   double max_violation(const StrainLimits &limits, const Eigen::VectorXd &x);
@@ -56,7 +100,11 @@ namespace nlmech
     unsigned int iterations = 0; // interior-point iterations, summed over the screening rounds
     unsigned int rounds     = 0; // screening rounds (cone problems solved)
     std::size_t  cones      = 0; // limits in the last cone problem
-    double       seconds = 0, violation = 0, distance = 0; // distance |x - x_hat|_M
+    std::size_t  cuts_added = 0; // cutting planes added in this projection
+    /// Largest excess over the limit curve, relative to the requested strain (<= the curve
+    /// tolerance when the projection holds the curve; NaN when not computed).
+    double curve_excess = std::numeric_limits<double>::quiet_NaN();
+    double seconds = 0, violation = 0, distance = 0; // distance |x - x_hat|_M
   };
 
   /// The SOCP projection with a solver (and its symbolic analysis) kept across calls.
@@ -70,10 +118,16 @@ namespace nlmech
   /// projection itself. Once a quarter of the limits are in, the full problem is solved instead
   /// (its symbolic analysis is then kept). `screening` = 0 keeps every limit (the full problem,
   /// one round).
+  ///
+  /// The curve between the samples (cutting planes): after the rows hold, every triangle whose
+  /// stretch exceeds b(alpha) by more than curve_tolerance (b - 1) in some direction gets a row in
+  /// that direction, and the projection is solved again, until none does (at most
+  /// `max_cuts_per_triangle` cuts each; the cuts are kept for later projections).
   class StrainLimitProjector
   {
   public:
     /// `mass` per unknown (3 per vertex); `fixed` unknowns keep their values in every projection.
+    /// The projector keeps its own copy of the limits, to which it adds the cuts.
     StrainLimitProjector(const StrainLimits &limits, const Eigen::VectorXd &mass,
                          const std::map<std::size_t, double> &fixed, ConicSettings settings = {},
                          double screening = 0.98);
@@ -89,9 +143,18 @@ namespace nlmech
     Eigen::VectorXd full(const Eigen::VectorXd &free_values) const;
 
     const ConicQPSolver &solver() const { return cone_solver; }
+    /// The limits with the cuts added so far.
+    const StrainLimits &current_limits() const { return limits; }
+
+    static constexpr unsigned int max_cuts_per_triangle = 16;
 
   private:
-    const StrainLimits           &limits;
+    /// Adds cuts where the curve is exceeded at x; returns how many.
+    std::size_t add_cuts(const Eigen::VectorXd &x, double &excess);
+
+    StrainLimits                  limits;
+    std::vector<unsigned int>     cuts_of_triangle;
+    std::vector<std::size_t>      row_order; // rows grouped by triangle (cones on the same columns)
     Eigen::VectorXd               mass;
     std::map<std::size_t, double> fixed;
     ConicSettings                 settings;

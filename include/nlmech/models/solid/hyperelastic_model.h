@@ -39,4 +39,8 @@ namespace nlmech
                                                 const HyperelasticMaterial           &material,
                                                 const HyperelasticBoundaryConditions &conditions,
                                                 const HyperelasticLoads              &loads);
+
+  /// The resultant of a nodal load vector (x, y, z per vertex): the vector sum of its nodal forces,
+  /// e.g. the weight of the body for gravity (the Euclidean norm of the vector is not a force).
+  Eigen::Vector3d resultant_force(const Eigen::VectorXd &nodal_loads);
 } // namespace nlmech
