@@ -10,6 +10,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -228,27 +229,68 @@ namespace nlmech::dim
   {
     namespace fs = std::filesystem;
 
-    std::string record_of(const Sample &s)
+    /// FNV-1a, 64 bits: detects edits and damage (not an adversary).
+    std::string checksum(const std::string &text)
+    {
+      std::uint64_t h = 1469598103934665603ull;
+      for (const unsigned char c : text)
+        h = (h ^ c) * 1099511628211ull;
+      char hex[17];
+      std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+      return hex;
+    }
+
+    std::string numbers_of(const Sample &s)
     {
       char line[512];
-      std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %u %.6g %.6g\n", s.theta, s.target_p,
+      std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %u %.6g %.6g", s.theta, s.target_p,
                     s.target_o, s.outcome.principal, s.outcome.orthogonal, s.outcome.iterations,
                     s.outcome.seconds, s.outcome.smallest_gap);
       return line;
     }
-    bool read_record(const std::string &path, Sample &s)
+
+    /// The sample file: its numbers, the code version and a checksum over both, the key and the plan.
+    std::string record_of(const Sample &s, const std::string &fingerprint)
+    {
+      const std::string numbers = numbers_of(s), version = code_version();
+      return numbers + "\ncode " + version + "\nchecksum " +
+             checksum(fingerprint + "\n" + s.key() + "\n" + numbers + "\n" + version) + "\n";
+    }
+
+    enum class RecordState
+    {
+      valid,
+      missing,
+      stale,  // another code version
+      damaged // unreadable, checksum mismatch, or physically invalid
+    };
+
+    RecordState read_record(const std::string &path, Sample &s, const std::string &fingerprint)
     {
       std::ifstream in(path);
       if (!in)
-        return false;
-      Sample r = s;
-      if (!(in >> r.theta >> r.target_p >> r.target_o >> r.outcome.principal >> r.outcome.orthogonal >>
+        return RecordState::missing;
+      std::string numbers, code_line, checksum_line;
+      if (!std::getline(in, numbers) || !std::getline(in, code_line) || !std::getline(in, checksum_line) ||
+          code_line.rfind("code ", 0) != 0 || checksum_line.rfind("checksum ", 0) != 0)
+        return RecordState::damaged;
+      const std::string version = code_line.substr(5);
+      if (checksum_line.substr(9) != checksum(fingerprint + "\n" + s.key() + "\n" + numbers + "\n" + version))
+        return RecordState::damaged;
+      if (version != code_version())
+        return RecordState::stale;
+      Sample             r = s;
+      std::istringstream line(numbers);
+      if (!(line >> r.theta >> r.target_p >> r.target_o >> r.outcome.principal >> r.outcome.orthogonal >>
             r.outcome.iterations >> r.outcome.seconds >> r.outcome.smallest_gap))
-        return false; // unreadable: run the job again
-      if (!std::isfinite(r.outcome.principal) || !std::isfinite(r.outcome.orthogonal))
-        return false;
+        return RecordState::damaged;
+      // The job it claims to be, and a state that can exist (no intersection: gap >= 0).
+      if (!std::isfinite(r.outcome.principal) || !std::isfinite(r.outcome.orthogonal) ||
+          !(r.outcome.smallest_gap >= 0) || std::abs(r.theta - s.theta) > 1e-12 || r.target_p != s.target_p ||
+          r.target_o != s.target_o)
+        return RecordState::damaged;
       s = r;
-      return true;
+      return RecordState::valid;
     }
     void set_point(Sample &s)
     {
@@ -260,7 +302,8 @@ namespace nlmech::dim
   std::vector<Sample>
   sample_strain_space(const Pattern &pattern, const std::string &test, const SamplingPlan &plan,
                       const NativeSolveSettings &settings, const std::string &checkpoint_directory,
-                      MPI_Comm comm, const std::function<void(unsigned, unsigned, const Sample &)> &progress)
+                      MPI_Comm comm, const std::function<void(unsigned, unsigned, const Sample &)> &progress,
+                      SamplingStatistics *statistics)
   {
     AssertThrow(test == "in-plane" || test == "bending",
                 dealii::ExcMessage("Sampling: the test is 'in-plane' or 'bending', not '" + test + "'."));
@@ -269,35 +312,62 @@ namespace nlmech::dim
     const unsigned rank = dealii::Utilities::MPI::this_mpi_process(comm);
     const unsigned size = dealii::Utilities::MPI::n_mpi_processes(comm);
     std::string    mismatch;
+    // plan.txt: the plan's fingerprint, then the code version that wrote the samples.
+    const std::string plan_text = plan.fingerprint + "code " + code_version() + "\n";
     if (rank == 0)
       {
         fs::create_directories(checkpoint_directory);
         const std::string path = checkpoint_directory + "/plan.txt";
         if (!fs::exists(path))
-          write_file_atomically(path, plan.fingerprint);
+          {
+            bool samples_present = false;
+            for (const auto &entry : fs::directory_iterator(checkpoint_directory))
+              samples_present = samples_present || entry.path().extension() == ".sample";
+            if (samples_present)
+              mismatch = "Sampling: the checkpoint directory '" + checkpoint_directory +
+                         "' holds samples but no plan.txt, so what made them cannot be told; remove it or "
+                         "choose another 'Checkpoint directory'.";
+            else
+              write_file_atomically(path, plan_text);
+          }
         else
           {
             std::ifstream     in(path);
             const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-            if (kept != plan.fingerprint)
+            const auto        code = kept.rfind("code ");
+            if (kept.substr(0, code == std::string::npos ? kept.size() : code) != plan.fingerprint)
               mismatch =
                   "Sampling: the checkpoint directory '" + checkpoint_directory +
                   "' holds samples of a different material, contact or sampling plan (see its plan.txt); "
                   "remove it or choose another 'Checkpoint directory'.";
+            else if (kept != plan_text)
+              write_file_atomically(path, plan_text); // another code version: its samples are redone
           }
       }
     mismatch = dealii::Utilities::MPI::broadcast(comm, mismatch, 0);
     AssertThrow(mismatch.empty(), dealii::ExcMessage(mismatch));
-    const double far = test == "in-plane" ? plan.far_strain : plan.far_curvature;
-    const double w = settings.target_weight, hold = settings.hold_weight;
-    unsigned     new_samples = 0;
+    SamplingStatistics counts;
+    const double       far = test == "in-plane" ? plan.far_strain : plan.far_curvature;
+    const double       w = settings.target_weight, hold = settings.hold_weight;
+    unsigned           new_samples = 0;
 
     // One phase: run the jobs not yet checkpointed, round-robin over the ranks, then read all.
     auto run_phase = [&](std::vector<Sample> &jobs) {
       std::vector<std::size_t> open;
       for (std::size_t j = 0; j < jobs.size(); ++j)
-        if (!fs::exists(checkpoint_directory + "/" + jobs[j].key() + ".sample"))
-          open.push_back(j);
+        {
+          Sample            probe = jobs[j];
+          const RecordState state =
+              read_record(checkpoint_directory + "/" + jobs[j].key() + ".sample", probe, plan.fingerprint);
+          if (state == RecordState::valid)
+            ++counts.resumed;
+          else
+            {
+              open.push_back(j);
+              counts.stale += state == RecordState::stale;
+              counts.damaged += state == RecordState::damaged;
+            }
+        }
       // Every rank must see the same open jobs before anybody writes a new sample.
       MPI_Barrier(comm);
       std::string error;
@@ -345,8 +415,9 @@ namespace nlmech::dim
                 }
               AssertThrow(std::isfinite(s.outcome.principal) && std::isfinite(s.outcome.orthogonal),
                           dealii::ExcMessage("Sampling: a test returned a non-finite result."));
-              write_file_atomically(checkpoint_directory + "/" + s.key() + ".sample", record_of(s));
-              ++new_samples;
+              write_file_atomically(checkpoint_directory + "/" + s.key() + ".sample",
+                                    record_of(s, plan.fingerprint));
+              ++new_samples, ++counts.computed;
               if (progress)
                 progress(++done, mine, s);
             }
@@ -367,8 +438,10 @@ namespace nlmech::dim
       for (auto &s : jobs)
         {
           AssertThrow(
-              read_record(checkpoint_directory + "/" + s.key() + ".sample", s),
-              dealii::ExcMessage("Sampling: the checkpoint of " + s.key() + " is missing or unreadable."));
+              read_record(checkpoint_directory + "/" + s.key() + ".sample", s, plan.fingerprint) ==
+                  RecordState::valid,
+              dealii::ExcMessage("Sampling: the checkpoint of " + s.key() +
+                                 " is missing, unreadable or fails its checksum after it was written."));
           set_point(s);
         }
     };
@@ -384,6 +457,8 @@ namespace nlmech::dim
             phase1.push_back(s);
           }
     run_phase(phase1);
+    if (statistics)
+      *statistics = counts;
     if (plan.positive_only)
       return phase1;
     std::vector<Sample> phase2;
@@ -399,6 +474,8 @@ namespace nlmech::dim
             phase2.push_back(s);
           }
     run_phase(phase2);
+    if (statistics)
+      *statistics = counts;
     phase1.insert(phase1.end(), phase2.begin(), phase2.end());
     return phase1;
   }

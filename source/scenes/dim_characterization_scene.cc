@@ -338,12 +338,14 @@ namespace nlmech
           }
         for (const auto &test : tests)
           {
-            ProgressReporter progress(test + " samples", 1.0, context.comm, std::cout);
-            const auto       start    = std::chrono::steady_clock::now();
-            unsigned         new_here = 0; // samples solved by this rank in this run (not resumed)
-            const auto       samples  = sample_strain_space(
-                       pattern, test, sampling_plan, test == "bending" ? bending_settings : settings, checkpoint,
-                       context.comm, [&](const unsigned done, const unsigned mine, const Sample &s) {
+            ProgressReporter   progress(test + " samples", 1.0, context.comm, std::cout);
+            const auto         start    = std::chrono::steady_clock::now();
+            unsigned           new_here = 0; // samples solved by this rank in this run (not resumed)
+            SamplingStatistics checkpoint_counts;
+            const auto         samples = sample_strain_space(
+                        pattern, test, sampling_plan, test == "bending" ? bending_settings : settings, checkpoint,
+                        context.comm,
+                        [&](const unsigned done, const unsigned mine, const Sample &s) {
                   ++new_here;
                   // The stretch limit along x, for the VTU (no second solve).
                   if (s.test == "in-plane" && s.direction == 0 && s.level == 0 &&
@@ -356,7 +358,27 @@ namespace nlmech
                   label << s.key() << ": " << s.outcome.principal << ", " << s.outcome.orthogonal << " ("
                         << s.outcome.iterations << " its, " << s.outcome.seconds << " s)";
                   progress.report(double(done) / std::max(1u, mine), label.str());
-                });
+                },
+                        &checkpoint_counts);
+            {
+              const unsigned computed = Utilities::MPI::sum(checkpoint_counts.computed, context.comm);
+              JsonObject     c;
+              c.add_number("resumed", checkpoint_counts.resumed);
+              c.add_number("computed", computed);
+              c.add_number("recomputed_other_code_version", checkpoint_counts.stale);
+              c.add_number("recomputed_damaged_or_edited", checkpoint_counts.damaged);
+              context.summary.add_object(test == "in-plane" ? "checkpoint_in_plane" : "checkpoint_bending",
+                                         c);
+              context.pcout << test << " samples: " << checkpoint_counts.resumed << " resumed from "
+                            << checkpoint << ", " << computed << " computed";
+              if (checkpoint_counts.stale > 0)
+                context.pcout << " (" << checkpoint_counts.stale
+                              << " of them because an older build of the code wrote them)";
+              if (checkpoint_counts.damaged > 0)
+                context.pcout << " (" << checkpoint_counts.damaged
+                              << " of them because their file was unreadable, edited or invalid)";
+              context.pcout << std::endl;
+            }
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             write_samples(context, test, samples);

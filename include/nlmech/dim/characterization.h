@@ -171,15 +171,33 @@ namespace nlmech::dim
   /// limit. The held or free component does not count.
   bool reached_far_target(const Sample &sample, double tolerance = 0.01);
 
+  /// A hash of the code a sample's result depends on (element shapes, contact, the native solve),
+  /// made at build time: checkpoints written by other code are recomputed, not reused.
+  const char *code_version();
+
+  /// What a (resumed) sampling run did with its checkpoint.
+  struct SamplingStatistics
+  {
+    unsigned int resumed  = 0; // samples read from the checkpoint, verified
+    unsigned int computed = 0; // samples solved in this run, on this rank
+    unsigned int stale    = 0; // found but written by another code version: recomputed
+    unsigned int damaged  = 0; // found but unreadable, edited (checksum) or invalid: recomputed
+  };
+
   /// Runs (or resumes) the sampling of one test ("in-plane" or "bending") over the communicator's
   /// ranks: the jobs of a phase are dealt out round-robin, and every finished sample is written at
   /// once (atomically) to `checkpoint_directory`, where a resumed run finds it and skips the job.
+  /// Every sample file carries the code version and a checksum over it, its key and the plan's
+  /// fingerprint; a sample that fails them (edited by hand, of an older build, a negative gap, a
+  /// non-finite value) is recomputed, and a directory with samples but no plan.txt is refused.
+  /// `statistics` (optional) counts what was resumed and recomputed.
   /// Returns all samples of the test, in job order, on every rank. `progress(done, total)` is
   /// called on each rank after each of its samples.
   std::vector<Sample>
   sample_strain_space(const Pattern &pattern, const std::string &test, const SamplingPlan &plan,
                       const NativeSolveSettings &settings, const std::string &checkpoint_directory,
-                      MPI_Comm comm, const std::function<void(unsigned, unsigned, const Sample &)> &progress);
+                      MPI_Comm comm, const std::function<void(unsigned, unsigned, const Sample &)> &progress,
+                      SamplingStatistics *statistics = nullptr);
 
   /// The weights the bending tests drive and hold curvatures with: the settings' ones, raised
   /// together (ratio kept) where gravity could otherwise hold a driven curvature back by more than
