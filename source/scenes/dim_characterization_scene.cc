@@ -232,6 +232,10 @@ namespace nlmech
                             ExcMessage("Mesh element: every entry of 'Elements' needs six numbers "
                                        "(x, y, z, rotation vector in degrees): <" +
                                        element + ">."));
+                for (const double x : v)
+                  AssertThrow(std::isfinite(x),
+                              ExcMessage("Mesh element: the entry <" + element +
+                                         "> of 'Elements' has a number that is not finite."));
                 pattern.shape_of.push_back(0);
                 pattern.centres.emplace_back(v[0], v[1], v[2]);
                 pattern.rotations.push_back(Eigen::Vector3d(v[3], v[4], v[5]) * degree);

@@ -127,6 +127,10 @@ def cases(source):
                                          "  end\nend\n"), "overlap in the initial pattern"),
         "dim-not-interlocked": (dim("subsection Material\n  subsection Threefold\n    set Wave height = 0\n"
                                     "    set Spacing = 9.5\n  end\nend\n"), "links 0 neighbours instead of 6"),
+        "dim-nan-element": (dim("subsection Material\n  set Pattern = mesh element\n  subsection Mesh element\n"
+                                "    set Mesh file = " + os.path.join(source, "meshes", "dim-torus.geo") + "\n"
+                                "    set Elements = 0, 0, 0, 0, 0, 0; nan, 0, 0, 0, 0, 0\n  end\nend\n"),
+                            "is not finite"),
         "dim-far-strain-out-of-range": (dim("subsection Sampling\n  set Far strain = 1.5\nend\n"),
                                         "Far strain"),
         "multi-target-topology": (multi_target(f"  set Target mesh = {os.path.join(data, 'inverted_tet.msh')}\n"),

@@ -288,15 +288,23 @@ namespace nlmech
     excess = 0;
     if (!limits.curve || limits.curve_tolerance <= 0 || limits.triangles.empty())
       return 0;
-    const auto  over  = curve_excesses(limits, x, limits.curve_tolerance, &excess);
+    // Once any triangle exceeds the tolerance, every triangle past half of it gets its cut: the
+    // projection that follows moves stretch between neighbours, and the ones close to the
+    // tolerance would need a round of their own. Measured on 10 steps of the 40x40 swinging sheet
+    // (SAP; projection time against the sampled rows alone): cutting only past the tolerance 6.1x
+    // (1 %) and 4.7x (10 %), past half of it 3.8x and 2.9x, past a quarter 3.5x and 2.8x with more
+    // rows, every positive excess 4.0x and 4.3x; a cut either side of the worst direction as well
+    // gave no gain.
+    const auto over = curve_excesses(limits, x, 0.5 * limits.curve_tolerance, &excess);
+    if (excess <= limits.curve_tolerance)
+      return 0;
     std::size_t added = 0;
     for (const auto &e : over)
-      {
-        if (cuts_of_triangle[e.triangle] >= max_cuts_per_triangle)
-          continue;
-        limits.add(e.triangle, e.alpha);
-        ++cuts_of_triangle[e.triangle], ++added;
-      }
+      if (cuts_of_triangle[e.triangle] < max_cuts_per_triangle)
+        {
+          limits.add(e.triangle, e.alpha);
+          ++cuts_of_triangle[e.triangle], ++added;
+        }
     if (added == 0)
       return 0;
     // Rows grouped by triangle, so that each triangle's cones share their columns in the problem.

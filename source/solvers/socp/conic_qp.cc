@@ -118,6 +118,7 @@ namespace nlmech
         case ConicStatus::almost_solved: return "almost solved";
         case ConicStatus::primal_infeasible: return "primal infeasible";
         case ConicStatus::iteration_limit: return "iteration limit";
+        case ConicStatus::stalled: return "stalled";
         default: return "numerical error";
       }
   }
@@ -669,9 +670,13 @@ namespace nlmech
         if (std::getenv("NLMECH_SOCP_DEBUG"))
           std::fprintf(stderr, "socp    affine step %.3f sigma %.2e step %.3f\n", alpha_a, sigma, alpha);
         if (alpha < 1e-10)
-          break; // stalled
+          {
+            status = ConicStatus::stalled;
+            break;
+          }
       }
-    if (status == ConicStatus::iteration_limit || status == ConicStatus::numerical_error)
+    if (status == ConicStatus::iteration_limit || status == ConicStatus::numerical_error ||
+        status == ConicStatus::stalled)
       {
         const double loose = settings.almost_factor;
         if (result.primal_residual <= loose * settings.feasibility_tolerance &&
@@ -682,7 +687,8 @@ namespace nlmech
     result.status = status;
     result.x = x, result.s = s, result.z = z;
     result.seconds = since(started);
-    if (centred_start && (status == ConicStatus::iteration_limit || status == ConicStatus::numerical_error))
+    if (centred_start && (status == ConicStatus::iteration_limit || status == ConicStatus::numerical_error ||
+                          status == ConicStatus::stalled))
       {
         // The centred start can be poor far from the solution (mu too small for the residuals):
         // start again from CVXOPT's point.

@@ -235,3 +235,65 @@ TEST(ConicQP, InfeasibleProblemsAreDetected)
       << to_string(r2.status);
   EXPECT_NEAR(r2.x[0], 1.0, 1e-4);
 }
+
+TEST(ConicQP, NearlyInfeasibleProblemsEndInANamedStatus)
+{
+  // |x| <= 1 and |x - (2 + g)| <= 1: infeasible by a gap g. Near g = 1e-5 the certificate's
+  // h^T z < 0 is of the size of round-off; the solver must then say what happened (infeasible,
+  // stalled) rather than report an iteration limit it did not reach.
+  for (const double g : {1e-2, 1e-4, 1e-5, 1e-6, 1e-7})
+    {
+      ConicQP p;
+      p.P_diagonal = Eigen::VectorXd::Ones(1);
+      p.q          = Eigen::VectorXd::Zero(1);
+      p.G.resize(4, 1);
+      p.G.insert(1, 0) = -1;
+      p.G.insert(3, 0) = -1;
+      p.G.makeCompressed();
+      p.h     = (Eigen::VectorXd(4) << 1, 0, 1, -(2 + g)).finished();
+      p.cones = {2, 2};
+      ConicQPSolver     solver;
+      ConicSettings     settings;
+      const ConicResult r = solver.solve(p, settings);
+      std::printf("gap %.0e: %s after %u iterations\n", g, to_string(r.status).c_str(), r.iterations);
+      EXPECT_NE(r.status, ConicStatus::solved) << "gap " << g;
+      EXPECT_NE(r.status, ConicStatus::almost_solved) << "gap " << g;
+      if (r.status == ConicStatus::iteration_limit)
+        EXPECT_GE(r.iterations, settings.max_iterations) << "gap " << g;
+      if (g >= 1e-4)
+        EXPECT_EQ(r.status, ConicStatus::primal_infeasible) << "gap " << g << ": " << to_string(r.status);
+    }
+}
+
+TEST(ConicQP, BadlyScaledProblemsAreSolvedToATightKktResidual)
+{
+  // Cones whose rows are scaled over twelve orders of magnitude (G rows and h times 1e-6 .. 1e6:
+  // the same feasible set) and unknowns in units six orders apart (x = D y): the same problem in
+  // bad units must still end solved, to a tight KKT residual, at tight tolerances.
+  for (unsigned int seed = 1; seed <= 6; ++seed)
+    {
+      ConicQP                                p = random_problem(40, 30, 4, 100 + seed);
+      std::mt19937                           rng(seed);
+      std::uniform_real_distribution<double> exponent(-6, 6), p_exponent(-3, 3);
+      Eigen::VectorXd                        row_scale(p.h.size());
+      for (std::size_t i = 0, o = 0; i < p.cones.size(); o += p.cones[i], ++i)
+        row_scale.segment(Eigen::Index(o), p.cones[i]).setConstant(std::pow(10.0, exponent(rng)));
+      p.G = row_scale.asDiagonal() * p.G;
+      p.h = row_scale.cwiseProduct(p.h);
+      // Unknowns in units six orders of magnitude apart: x = D y.
+      Eigen::VectorXd column_scale(p.q.size());
+      for (Eigen::Index j = 0; j < column_scale.size(); ++j)
+        column_scale[j] = std::pow(10.0, p_exponent(rng));
+      p.G          = p.G * column_scale.asDiagonal();
+      p.P_diagonal = p.P_diagonal.cwiseProduct(column_scale.cwiseAbs2());
+      p.q          = p.q.cwiseProduct(column_scale);
+      ConicSettings tight;
+      tight.gap_tolerance = tight.feasibility_tolerance = 1e-10;
+      ConicQPSolver     solver;
+      const ConicResult r = solver.solve(p, tight);
+      std::printf("badly scaled seed %u: %s in %u iterations, KKT %.2e gap %.1e\n", seed,
+                  to_string(r.status).c_str(), r.iterations, kkt_error(p, r), r.gap);
+      EXPECT_EQ(r.status, ConicStatus::solved) << "seed " << seed << ": " << to_string(r.status);
+      EXPECT_LT(kkt_error(p, r), 1e-9) << "seed " << seed;
+    }
+}

@@ -13,7 +13,9 @@
 //
 // Status: solved (residuals and gap below the tolerances), almost_solved (below the looser
 // tolerances when progress stalls or the iteration limit is hit), primal_infeasible (a certificate
-// z in K with G^T z ~ 0 and h^T z < 0), iteration_limit, numerical_error.
+// z in K with G^T z ~ 0 and h^T z < 0), iteration_limit (settings.max_iterations reached),
+// stalled (the step length collapsed first), numerical_error (a non-finite iterate or a failed
+// factorisation).
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
@@ -39,7 +41,10 @@ namespace nlmech
     almost_solved,
     primal_infeasible,
     iteration_limit,
-    numerical_error
+    numerical_error,
+    /// The step to the cone boundary fell below 1e-10 before any tolerance was met: the iterates
+    /// cannot move on (typical of problems within about 1e-5 of infeasibility).
+    stalled
   };
   std::string to_string(ConicStatus status);
 
