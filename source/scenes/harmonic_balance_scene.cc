@@ -21,6 +21,7 @@
 #include <nlmech/models/dynamics/spring_network.h>
 #include <nlmech/models/dynamics/thin_shell.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
+#include <nlmech/solvers/hbm/backbone.h>
 #include <nlmech/solvers/hbm/linear_modal.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
 #include <nlmech/solvers/newton/newton_solver.h>
@@ -219,6 +220,17 @@ namespace nlmech
         prm.declare_entry("Maximum amplitude", "100", Patterns::Double(0),
                           "Stop the curve (partial result) beyond this half range [m].");
         prm.declare_entry("Tolerance", "1e-9", Patterns::Double(0), "|h| relative to the force scale [-].");
+        prm.declare_entry("Maximum points", "2000", Patterns::Integer(1),
+                          "Largest number of points on the frequency-response curve; beyond it the curve "
+                          "stops (partial result) [-].");
+        prm.declare_entry("Frequency response", "true", Patterns::Bool(),
+                          "Trace the frequency-response curve over the frequency range; false: only the "
+                          "evaluation frequencies and the backbone below.");
+        prm.declare_entry("Evaluation frequencies", "", Patterns::Anything(),
+                          "Frequencies at which the periodic state is solved on its own (from the nearest "
+                          "point of the curve when one is traced, else from rest with the excitation "
+                          "ramped up) and written to evaluation.csv with its harmonic coefficients "
+                          "[rad/s]; empty: none.");
         prm.declare_entry(
             "Adaptive harmonics", "0", Patterns::Double(0),
             "0: use Harmonics as given; > 0: raise N_H from Harmonics in steps of 2 (up to 25) until "
@@ -236,6 +248,14 @@ namespace nlmech
             "Linear modal reference", "true", Patterns::Bool(),
             "Add the linear modal analysis response at the static state (dense eigenproblem, up "
             "to 3000 free unknowns) to the curve's CSV and plot.");
+        prm.leave_subsection();
+        prm.enter_subsection("Backbone");
+        prm.declare_entry("Amplitudes", "", Patterns::Anything(),
+                          "First-harmonic (cosine) amplitudes of the tracked unknown at which the undamped, "
+                          "unforced periodic solution (the nonlinear normal mode, as NLvib's NMA) is solved, "
+                          "ascending, continued from the linear mode; written to backbone.csv [m]; empty: "
+                          "none. Structures with forces only (no drives).");
+        prm.declare_entry("Mode", "1", Patterns::Integer(1), "The linear mode the backbone starts from [-].");
         prm.leave_subsection();
         prm.enter_subsection("Newmark check");
         prm.declare_entry("Frequencies", "", Patterns::Anything(),
@@ -354,7 +374,13 @@ namespace nlmech
         continuation.max_step           = prm.get_double("Maximum step");
         continuation.max_amplitude      = prm.get_double("Maximum amplitude");
         continuation.relative_tolerance = prm.get_double("Tolerance");
-        linear_reference                = prm.get_bool("Linear modal reference");
+        continuation.max_points         = unsigned(prm.get_integer("Maximum points"));
+        trace_curve                     = prm.get_bool("Frequency response");
+        evaluation_frequencies =
+            parse_number_list(prm.get("Evaluation frequencies"), "Evaluation frequencies");
+        for (const double w : evaluation_frequencies)
+          AssertThrow(w > 0, ExcMessage("Evaluation frequencies must be positive [rad/s]."));
+        linear_reference = prm.get_bool("Linear modal reference");
         {
           const std::string method = prm.get("Stability");
           continuation.stability   = method == "floquet" ? StabilityMethod::floquet
@@ -363,6 +389,13 @@ namespace nlmech
         }
         adaptive_threshold = prm.get_double("Adaptive harmonics");
         adaptive_frequency = prm.get_double("Adaptive frequency");
+        prm.leave_subsection();
+        prm.enter_subsection("Backbone");
+        backbone_amplitudes = parse_number_list(prm.get("Amplitudes"), "Backbone amplitudes");
+        backbone_mode       = unsigned(prm.get_integer("Mode"));
+        AssertThrow(std::is_sorted(backbone_amplitudes.begin(), backbone_amplitudes.end()) &&
+                        (backbone_amplitudes.empty() || backbone_amplitudes.front() > 0),
+                    ExcMessage("Backbone: the amplitudes must be positive and ascending."));
         prm.leave_subsection();
         prm.enter_subsection("Newmark check");
         check_frequencies = parse_number_list(prm.get("Frequencies"), "Frequencies");
@@ -424,10 +457,12 @@ namespace nlmech
             progress.report(done), reported = done;
         };
         FrequencyResponse frc;
-        {
-          TimerOutput::Scope t(context.timer, "frequency response (HBM continuation)");
-          frc = trace_frequency_response(hb, hb.static_coefficients(s.rest), continuation);
-        }
+        frc.completed = true;
+        if (trace_curve)
+          {
+            TimerOutput::Scope t(context.timer, "frequency response (HBM continuation)");
+            frc = trace_frequency_response(hb, hb.static_coefficients(s.rest), continuation);
+          }
         // Linear modal analysis at the static state, at the same frequencies.
         std::vector<std::pair<double, double>> lma; // (amplitude A, half range) per point
         if (linear_reference && hb.n_free() <= 3000 && !frc.points.empty())
@@ -466,6 +501,8 @@ namespace nlmech
             const double           w = frc.peaks.empty() ? frc.points.back().omega : frc.peaks.front().omega;
             write_period(context, hb, s, z, w);
           }
+        evaluate_frequencies(context, hb, s, frc);
+        trace_backbone_curve(context, s);
         if (!frc.completed)
           {
             context.partial_reason = "frequency response stopped: " + frc.stop_reason;
@@ -475,6 +512,136 @@ namespace nlmech
       }
 
     private:
+      /// Header of the harmonic coefficients of the tracked unknowns: x(t) = c0 + sum_k (cos_k cos(k w t)
+      /// + sin_k sin(k w t)), abs_k = sqrt(cos_k^2 + sin_k^2), per tracked unknown (its index).
+      std::string harmonics_header(const HarmonicBalance &hb, const Structure &s) const
+      {
+        std::string header;
+        for (const std::size_t d : s.tracked_dofs)
+          {
+            const std::string u = ",x" + std::to_string(d) + "_";
+            header += u + "c0";
+            for (unsigned int k = 1; k <= hb.n_harmonics(); ++k)
+              header += u + "cos" + std::to_string(k) + u + "sin" + std::to_string(k) + u + "abs" +
+                        std::to_string(k);
+          }
+        return header;
+      }
+
+      std::string harmonics_row(const HarmonicBalance &hb, const Structure &s, const Eigen::VectorXd &z) const
+      {
+        std::string       row;
+        const auto       &free = hb.free();
+        const std::size_t n    = hb.n_free();
+        for (const std::size_t d : s.tracked_dofs)
+          {
+            const auto        it      = std::find(free.begin(), free.end(), d);
+            const bool        is_free = it != free.end();
+            const std::size_t i       = is_free ? std::size_t(it - free.begin()) : 0;
+            // A fixed or driven unknown has no coefficients of its own: its static value, zeros.
+            row += "," + json_number(is_free ? z[Eigen::Index(i)] : s.rest[Eigen::Index(d)]);
+            for (unsigned int k = 1; k <= hb.n_harmonics(); ++k)
+              {
+                const double sk = is_free ? z[Eigen::Index((2 * k - 1) * n + i)] : 0.0;
+                const double ck = is_free ? z[Eigen::Index(2 * k * n + i)] : 0.0;
+                row += "," + json_number(ck) + "," + json_number(sk) + "," + json_number(std::hypot(ck, sk));
+              }
+          }
+        return row;
+      }
+
+      /// The periodic state at each evaluation frequency, on its own: from the nearest point of the
+      /// curve, or from rest with the excitation ramped up.
+      void evaluate_frequencies(RunContext &context, const HarmonicBalance &hb, const Structure &s,
+                                const FrequencyResponse &frc) const
+      {
+        if (evaluation_frequencies.empty())
+          return;
+        TimerOutput::Scope t(context.timer, "evaluation frequencies");
+        std::ostringstream csv;
+        csv << "omega,amplitude_A,half_range,converged,iterations,relative_residual,start"
+            << harmonics_header(hb, s) << "\n";
+        unsigned int failed = 0;
+        for (const double w : evaluation_frequencies)
+          {
+            Eigen::VectorXd z     = hb.static_coefficients(s.rest);
+            std::string     start = "rest, excitation ramped";
+            if (!frc.points.empty())
+              {
+                const auto nearest = std::min_element(frc.points.begin(), frc.points.end(),
+                                                      [&](const ResponsePoint &a, const ResponsePoint &b) {
+                                                        return std::abs(a.omega - w) < std::abs(b.omega - w);
+                                                      });
+                z                  = nearest->z;
+                start              = "curve point at w = " + json_number(nearest->omega);
+              }
+            PeriodicSolveSettings ps;
+            ps.relative_tolerance = continuation.relative_tolerance;
+            PeriodicSolveResult r = frc.points.empty() ? solve_with_excitation_ramp(hb, z, w, ps)
+                                                       : solve_periodic_state(hb, z, w, ps);
+            if (!r.converged && !frc.points.empty())
+              {
+                z = hb.static_coefficients(s.rest), start = "rest, excitation ramped";
+                r = solve_with_excitation_ramp(hb, z, w, ps);
+              }
+            failed += !r.converged;
+            csv << json_number(w) << "," << json_number(hb.amplitude(z, w, s.tracked_dofs)) << ","
+                << json_number(hb.half_range(z, w, s.tracked)) << "," << r.converged << "," << r.iterations
+                << "," << json_number(r.residual) << "," << start << harmonics_row(hb, s, z) << "\n";
+            context.pcout << "evaluation at w = " << w << " rad/s: "
+                          << (r.converged ? "half range " + json_number(hb.half_range(z, w, s.tracked))
+                                          : "no periodic state found (" + r.message + ")")
+                          << std::endl;
+          }
+        context.summary.add_number("evaluation_frequencies", evaluation_frequencies.size());
+        context.summary.add_number("evaluation_failures", failed);
+        if (context.is_root())
+          write_file_atomically(context.output.file("evaluation.csv"), csv.str());
+        if (failed > 0 && context.partial_reason.empty())
+          context.partial_reason = std::to_string(failed) + " evaluation frequencies found no periodic state";
+      }
+
+      /// The backbone of the undamped, unforced structure (the nonlinear normal mode) by amplitude.
+      void trace_backbone_curve(RunContext &context, const Structure &s) const
+      {
+        if (backbone_amplitudes.empty())
+          return;
+        TimerOutput::Scope t(context.timer, "backbone");
+        AssertThrow(
+            s.drives.empty(),
+            ExcMessage("Backbone: the structure is driven (its drives fix unknowns); the backbone needs "
+                       "a structure loaded by forces only."));
+        HarmonicBalanceSettings free_settings = settings;
+        free_settings.rayleigh_mass = free_settings.rayleigh_stiffness = 0;
+        const HarmonicBalance hb(s.model, free_settings);
+        const auto            it = std::find(hb.free().begin(), hb.free().end(), s.tracked);
+        AssertThrow(it != hb.free().end(), ExcMessage("Backbone: the tracked unknown is not free."));
+        BackboneSettings b;
+        b.reference = std::size_t(it - hb.free().begin());
+        b.mode      = backbone_mode;
+        b.tolerance = continuation.relative_tolerance;
+        std::string                      stop;
+        const std::vector<BackbonePoint> points = trace_backbone(hb, s.rest, backbone_amplitudes, b, &stop);
+        std::ostringstream               csv;
+        csv << "amplitude_cos1,omega,half_range,amplitude_A,gauss_newton_iterations,relative_residual"
+            << harmonics_header(hb, s) << "\n";
+        for (const auto &p : points)
+          csv << json_number(p.amplitude) << "," << json_number(p.omega) << ","
+              << json_number(hb.half_range(p.z, p.omega, s.tracked)) << ","
+              << json_number(hb.amplitude(p.z, p.omega, s.tracked_dofs)) << "," << p.iterations << ","
+              << json_number(p.residual) << harmonics_row(hb, s, p.z) << "\n";
+        context.summary.add_number("backbone_points", points.size());
+        if (!points.empty())
+          context.summary.add_figure("backbone_last_frequency", points.back().omega, "rad/s");
+        context.pcout << "backbone (mode " << backbone_mode << "): " << points.size() << " of "
+                      << backbone_amplitudes.size() << " amplitudes" << (stop.empty() ? "" : "; " + stop)
+                      << std::endl;
+        if (context.is_root())
+          write_file_atomically(context.output.file("backbone.csv"), csv.str());
+        if (!stop.empty() && context.partial_reason.empty())
+          context.partial_reason = "backbone: " + stop;
+      }
+
       void write_response(RunContext &context, const HarmonicBalance &hb, const Structure &s,
                           const FrequencyResponse &frc, const std::vector<std::pair<double, double>> &lma)
       {
@@ -495,6 +662,11 @@ namespace nlmech
             csv << "\n";
             folds += p.fold, unstable += p.stable == 0, undetermined += p.stable < 0, hill += p.hill;
           }
+        std::ostringstream harmonics;
+        harmonics << "point,omega" << harmonics_header(hb, s) << "\n";
+        for (std::size_t i = 0; i < frc.points.size(); ++i)
+          harmonics << i << "," << json_number(frc.points[i].omega) << harmonics_row(hb, s, frc.points[i].z)
+                    << "\n";
         peaks << "omega,amplitude_A,half_range\n";
         for (const auto &p : frc.peaks)
           peaks << json_number(p.omega) << "," << json_number(p.amplitude) << ","
@@ -543,6 +715,7 @@ namespace nlmech
           {
             write_file_atomically(context.output.file("frequency_response.csv"), csv.str());
             write_file_atomically(context.output.file("resonance_peaks.csv"), peaks.str());
+            write_file_atomically(context.output.file("harmonics.csv"), harmonics.str());
             run_plot("frequency_response.py", {context.output.file("frequency_response.csv"),
                                                context.output.file("frequency_response.png"),
                                                "HBM frequency response (" + model_kind + ")",
@@ -1051,6 +1224,9 @@ namespace nlmech
       std::vector<double>     check_frequencies;
       NewmarkSettings         newmark;
       double                  newmark_tolerance = 1e-3;
+      bool                    trace_curve       = true;
+      std::vector<double>     evaluation_frequencies, backbone_amplitudes;
+      unsigned int            backbone_mode = 1;
     };
   } // namespace
 
