@@ -4,6 +4,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bash "$here/contrib/setup/install-deps.sh"
 build="${NLMECH_BUILD_DIR:-$here/build}"
-cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE="${NLMECH_BUILD_TYPE:-Release}" > "$build.configure.log" 2>&1 || {
+cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE="${NLMECH_BUILD_TYPE:-Release}" \
+  -DNLMECH_WARNINGS_AS_ERRORS="${NLMECH_WARNINGS_AS_ERRORS:-OFF}" > "$build.configure.log" 2>&1 || {
   cat "$build.configure.log" >&2; exit 1; }
 cmake --build "$build" -j "$(nproc)"

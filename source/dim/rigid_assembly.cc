@@ -59,7 +59,7 @@ namespace nlmech::dim
           {
             const auto [i, j] = shape.segments[s];
             if (edges.insert({std::min(i, j), std::max(i, j)}).second)
-              p.edges.push_back({i, j}), p.edge_radius.push_back(shape.segment_radius[s]);
+              p.edges.push_back({{i, j}}), p.edge_radius.push_back(shape.segment_radius[s]);
             vertices.insert({i, shape.segment_radius[s]}), vertices.insert({j, shape.segment_radius[s]});
           }
         for (std::size_t t = 0; t < shape.triangles.size(); ++t)
@@ -70,7 +70,7 @@ namespace nlmech::dim
               {
                 const unsigned i = tri[k], j = tri[(k + 1) % 3];
                 if (edges.insert({std::min(i, j), std::max(i, j)}).second)
-                  p.edges.push_back({i, j}), p.edge_radius.push_back(shape.triangle_radius[t]);
+                  p.edges.push_back({{i, j}}), p.edge_radius.push_back(shape.triangle_radius[t]);
                 vertices.insert({i, shape.triangle_radius[t]});
               }
           }
@@ -215,7 +215,7 @@ namespace nlmech::dim
             {
               if (a == b && (i < 0 || (i == 0 && j <= 0)))
                 continue; // a body against itself only through a positive image
-              const std::array<int, 2> image{i, j};
+              const std::array<int, 2> image{{i, j}};
               const double gap = (centre(q, a) - centre(q, b, image)).norm() - shape(a).bounding_radius() -
                                  shape(b).bounding_radius();
               if (gap < reach)
@@ -261,7 +261,7 @@ namespace nlmech::dim
           const auto &[i0, i1] = pa.edges[ea];
           const auto &[j0, j1] = pb.edges[eb];
           add(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]),
-              {sa.points[i0], sa.points[i1], sb.points[j0], sb.points[j1]}, {0, 0, 1, 1},
+              {{sa.points[i0], sa.points[i1], sb.points[j0], sb.points[j1]}}, {{0, 0, 1, 1}},
               pa.edge_radius[ea] + pb.edge_radius[eb]);
         });
         // Points of one element against the faces of the other (both ways).
@@ -277,7 +277,7 @@ namespace nlmech::dim
               const auto &[v, rv]      = pv.vertices[k];
               const auto &[t0, t1, t2] = pf.faces[f];
               add(point_triangle_type(xv[v], xf[t0], xf[t1], xf[t2]),
-                  {sv.points[v], sf.points[t0], sf.points[t1], sf.points[t2]}, {ov, of, of, of},
+                  {{sv.points[v], sf.points[t0], sf.points[t1], sf.points[t2]}}, {{ov, of, of, of}},
                   rv + pf.face_radius[f]);
             });
           }
@@ -419,7 +419,7 @@ namespace nlmech::dim
     const double max_speed = *std::max_element(speed.begin(), speed.end());
     double       reach     = 2 * max_speed + separation;
     if (place == Placement::periodic)
-      reach += image_speed({image_range(), image_range()}) * 2;
+      reach += image_speed({{image_range(), image_range()}}) * 2;
     // The body pairs that can meet during the step, with their gaps at its start.
     struct Candidate
     {
@@ -624,7 +624,7 @@ namespace nlmech::dim
     template <typename S>
     S centre_work(const RigidAssembly &assembly, const std::array<S, 9> &v, const Eigen::Vector3d &f)
     {
-      const Point<S> c = assembly.world_point(&v[0], &v[6], {0, 0}, Eigen::Vector3d::Zero());
+      const Point<S> c = assembly.world_point(&v[0], &v[6], {{0, 0}}, Eigen::Vector3d::Zero());
       return -(f[0] * c[0] + f[1] * c[1] + f[2] * c[2]);
     }
   } // namespace

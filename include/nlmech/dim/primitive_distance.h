@@ -50,12 +50,12 @@ namespace nlmech::dim
   template <typename S>
   Point<S> difference(const Point<S> &a, const Point<S> &b)
   {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return {{a[0] - b[0], a[1] - b[1], a[2] - b[2]}};
   }
   template <typename S>
   Point<S> cross(const Point<S> &a, const Point<S> &b)
   {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    return {{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}};
   }
   template <typename S>
   S dot(const Point<S> &a, const Point<S> &b)

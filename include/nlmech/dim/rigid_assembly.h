@@ -193,9 +193,9 @@ namespace nlmech::dim
         a         = sin(t) / t;
         b         = (1.0 - cos(t)) / t2;
       }
-    const Point<S> w{omega[0], omega[1], omega[2]}, pp{S(p[0]), S(p[1]), S(p[2])};
+    const Point<S> w{{omega[0], omega[1], omega[2]}}, pp{{S(p[0]), S(p[1]), S(p[2])}};
     const Point<S> wp = cross(w, pp), wwp = cross(w, wp);
-    return {pp[0] + a * wp[0] + b * wwp[0], pp[1] + a * wp[1] + b * wwp[1], pp[2] + a * wp[2] + b * wwp[2]};
+    return {{pp[0] + a * wp[0] + b * wwp[0], pp[1] + a * wp[1] + b * wwp[1], pp[2] + a * wp[2] + b * wwp[2]}};
   }
 
   template <typename S>
@@ -203,7 +203,7 @@ namespace nlmech::dim
                                       const Eigen::Vector3d &p) const
   {
     Point<S> x = rotate(q + 3, p);
-    Point<S> c{q[0], q[1], q[2]};
+    Point<S> c{{q[0], q[1], q[2]}};
     if (place == Placement::periodic)
       {
         // Image offset i tbar1 + j tbar2 stretched by U(eps) (in-plane).
@@ -224,7 +224,7 @@ namespace nlmech::dim
               C += parameters[j] * curvature[j][2];
         c[2] += A * q[0] * q[0] + B * q[1] * q[1] + C * q[0] * q[1];
       }
-    return {c[0] + x[0], c[1] + x[1], c[2] + x[2]};
+    return {{c[0] + x[0], c[1] + x[1], c[2] + x[2]}};
   }
 
   /// The contact barrier of an assembly as an energy term: sum over primitive pairs of
