@@ -34,9 +34,14 @@ def main():
     if any(abs(v) > 0 for v in col("eps_stretch")[1]):
         fig = plt.figure(figsize=(5, 5))
         ax = fig.add_subplot(projection="polar")
-        t, c = closed(*col("travel_c"))
-        ax.plot(t, c, "o-", label="c (eq. 4.4.1)")
-        ax.set_title(f"{name}: in-plane range of travel c")
+        if col("travel_c")[1]:
+            t, c = closed(*col("travel_c"))
+            ax.plot(t, c, "o-", label="c (eq. 4.4.1)")
+            ax.set_title(f"{name}: in-plane range of travel c")
+        else:  # `Positive only`: the stretch limits were sampled, compression (and so c) was not
+            t, e = closed(*col("eps_stretch"))
+            ax.plot(t, e, "o-", label="stretch limit (Green strain)")
+            ax.set_title(f"{name}: in-plane stretch limit (compression not sampled)")
         ax.legend(loc="lower right")
         fig.tight_layout()
         fig.savefig(stretch_png, dpi=120)
@@ -53,6 +58,8 @@ def main():
         ):
             for key, style, label in [(pos, "o-", "positive bending"), (neg, "s--", "negative bending")]:
                 theta, values = col(key)
+                if not values:
+                    continue  # not sampled (`Positive only`)
                 t, v = closed(theta, [abs(x) for x in values])
                 ax.plot(t, v, style, label=label)
             ax.set_title(f"{name}: |{title}|", fontsize=10)

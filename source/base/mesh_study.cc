@@ -5,6 +5,7 @@
 #include <nlmech/base/atomic_output.h>
 #include <nlmech/base/json.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -79,14 +80,69 @@ namespace nlmech
     write_file_atomically(path, to_csv());
   }
 
+  void MeshStudyTable::set_errors(const std::vector<double> &errors)
+  {
+    AssertThrow(errors.size() == table.size(),
+                dealii::ExcMessage("Mesh study: one error per row is needed to replace them."));
+    for (std::size_t i = 0; i < table.size(); ++i)
+      table[i].error = errors[i];
+  }
+
+  std::size_t MeshStudyTable::extra_index(const std::string &name) const
+  {
+    const auto it = std::find(extra_columns.begin(), extra_columns.end(), name);
+    AssertThrow(it != extra_columns.end(), dealii::ExcMessage("Mesh study: no column <" + name + ">."));
+    return std::size_t(it - extra_columns.begin());
+  }
+
+  Extrapolation richardson_extrapolation(const std::vector<double> &h, const std::vector<double> &u,
+                                         const double assumed_order)
+  {
+    AssertThrow(h.size() == u.size() && h.size() >= 2,
+                dealii::ExcMessage("Richardson extrapolation needs at least two levels."));
+    const std::size_t n = h.size();
+    Extrapolation     e;
+    e.order = assumed_order;
+    if (n >= 3)
+      {
+        // (u1 - u2) / (u2 - u3) = (h1^p - h2^p) / (h2^p - h3^p) for the three finest, solved for p
+        // by bisection on [0.5, 8] when it brackets a root.
+        const double h1 = h[n - 3], h2 = h[n - 2], h3 = h[n - 1];
+        const double d1 = u[n - 3] - u[n - 2], d2 = u[n - 2] - u[n - 1];
+        if (d1 * d2 > 0 && std::abs(d2) < std::abs(d1) && h1 > h2 && h2 > h3 && h3 > 0)
+          {
+            const double target = d1 / d2;
+            auto         f      = [&](double p) {
+              return (std::pow(h1, p) - std::pow(h2, p)) / (std::pow(h2, p) - std::pow(h3, p)) - target;
+            };
+            double lo = 0.5, hi = 8;
+            if (f(lo) * f(hi) < 0)
+              {
+                for (int it = 0; it < 200; ++it)
+                  {
+                    const double mid                = 0.5 * (lo + hi);
+                    (f(lo) * f(mid) <= 0 ? hi : lo) = mid;
+                  }
+                e.order        = 0.5 * (lo + hi);
+                e.order_fitted = true;
+              }
+          }
+      }
+    // u_0 from the two finest levels and the order.
+    const double r = std::pow(h[n - 1] / h[n - 2], e.order);
+    e.value        = (u[n - 1] - r * u[n - 2]) / (1 - r);
+    return e;
+  }
+
   std::string MeshStudyTable::plot(const std::string &csv_path, const std::string &png_path,
-                                   const std::string &title)
+                                   const std::string &title, const std::string &context_column)
   {
     const std::string script = std::string(NLMECH_SOURCE_DIR) + "/contrib/plot/mesh_study.py";
     if (!std::filesystem::exists(script))
       return "plot script " + script + " not found";
     const std::string command = std::string(NLMECH_PYTHON) + " '" + script + "' '" + csv_path + "' '" +
-                                png_path + "' '" + title + "'";
+                                png_path + "' '" + title + "'" +
+                                (context_column.empty() ? "" : " '" + context_column + "'");
     const int status = std::system(command.c_str());
     return status == 0 ? "" : "python3/matplotlib failed (exit status " + std::to_string(status) + ")";
   }

@@ -511,7 +511,7 @@ namespace nlmech::dim
         if (s.kind == SampleKind::positive)
           l.positive_p = s.outcome.principal, l.positive_o = s.outcome.orthogonal;
         else if (s.kind == SampleKind::negative)
-          l.negative_p = s.outcome.principal, l.negative_o = s.outcome.orthogonal;
+          l.negative_p = s.outcome.principal, l.negative_o = s.outcome.orthogonal, l.negative_sampled = true;
       }
     return limits;
   }
@@ -544,8 +544,11 @@ namespace nlmech::dim
         if (index[0] >= 0)
           {
             const auto &s = stretch[index[0]];
-            std::snprintf(field, sizeof field, ",%.9g,%.9g,%.9g,%.9g,%.9g", s.positive_p, s.positive_o,
-                          s.negative_p, s.negative_o, travel_metric(s.positive_p, s.negative_p));
+            if (s.negative_sampled)
+              std::snprintf(field, sizeof field, ",%.9g,%.9g,%.9g,%.9g,%.9g", s.positive_p, s.positive_o,
+                            s.negative_p, s.negative_o, travel_metric(s.positive_p, s.negative_p));
+            else // only what was sampled: no compression, so no travel either
+              std::snprintf(field, sizeof field, ",%.9g,%.9g,,,", s.positive_p, s.positive_o);
             out << field;
           }
         else
@@ -553,8 +556,11 @@ namespace nlmech::dim
         if (index[1] >= 0)
           {
             const auto &b = bending[index[1]];
-            std::snprintf(field, sizeof field, ",%.9g,%.9g,%.9g,%.9g", b.positive_p, b.positive_o,
-                          b.negative_p, b.negative_o);
+            if (b.negative_sampled)
+              std::snprintf(field, sizeof field, ",%.9g,%.9g,%.9g,%.9g", b.positive_p, b.positive_o,
+                            b.negative_p, b.negative_o);
+            else
+              std::snprintf(field, sizeof field, ",%.9g,%.9g,,", b.positive_p, b.positive_o);
             out << field;
           }
         else

@@ -70,8 +70,19 @@ namespace nlmech::dim
                              const unsigned int segments, const double row_spacing, const double density)
   {
     AssertThrow(R > 2 * r, dealii::ExcMessage("Ring chain: needs R > 2 r for the rings to link."));
-    AssertThrow(spacing > R + r && spacing < 2 * (R - r),
-                dealii::ExcMessage("Ring chain: needs R + r < spacing < 2 (R - r)."));
+    {
+      // Neighbours must clear each other (spacing > R + r) and stay linked (spacing < 2 (R - r)):
+      // an interval that is empty unless R > 3 r.
+      std::ostringstream why;
+      why << "Ring chain: the spacing must exceed R + r = " << R + r << " (the rings clear each other) and "
+          << "stay below 2 (R - r) = " << 2 * (R - r) << " (they stay linked)";
+      AssertThrow(R > 3 * r, dealii::ExcMessage(why.str() + "; with R = " + std::to_string(R) +
+                                                " and r = " + std::to_string(r) +
+                                                " no spacing does, which needs R > 3 r: a larger ring "
+                                                "radius or a thinner tube."));
+      why << "; it is " << spacing << ".";
+      AssertThrow(spacing > R + r && spacing < 2 * (R - r), dealii::ExcMessage(why.str()));
+    }
     AssertThrow(row_spacing > 2 * (R + r),
                 dealii::ExcMessage("Ring chain: the rows must be more than 2 (R + r) apart."));
     Pattern p;

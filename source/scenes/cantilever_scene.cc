@@ -3,6 +3,7 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/base/mesh_study.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/scenes/elastic_statics_study.h>
@@ -102,23 +103,41 @@ namespace nlmech
       {
         const BeamReference reference =
             beam_reference(study.material.material, length, width, height, gravity_case, end_load, gravity);
-        auto s          = study;
-        s.title         = std::string("cantilever, ") + (gravity_case ? "own weight" : "end load");
-        s.error_name    = "tip_deflection_relative_error_vs_timoshenko";
-        s.extra_columns = {"tip_deflection_m", "euler_bernoulli_m", "timoshenko_m"};
-        s.configure     = [&](LinearElasticity<3> &problem, const MeshGroups &groups) {
+        auto s  = study;
+        s.title = std::string("cantilever, ") + (gravity_case ? "own weight" : "end load");
+        // The error against the 3D solution itself (Richardson-extrapolated over the levels): beam
+        // theory is a model of a different problem, and the error against it stops falling at the
+        // 3D solution's distance from the beam (0.78 % in the demo); it is drawn beside as context.
+        s.error_name     = "tip_deflection_relative_error_vs_3d_extrapolated";
+        s.extra_columns  = {"tip_deflection_m", "euler_bernoulli_m", "timoshenko_m",
+                            "relative_error_vs_timoshenko"};
+        s.context_column = "relative_error_vs_timoshenko";
+        Extrapolation extrapolated;
+        s.finish = [&](MeshStudyTable &table) {
+          std::vector<double> h, u, errors;
+          for (const auto &row : table.rows())
+            h.push_back(row.element_size), u.push_back(row.extra[0]);
+          if (h.size() < 2)
+            return; // one level: no extrapolation; the error column stays against Timoshenko
+          // Tip deflections of degree-p elements converge like h^(p + 1) where the solution is smooth.
+          extrapolated = richardson_extrapolation(h, u, study.discretization.degree + 1.0);
+          for (const double tip : u)
+            errors.push_back(std::abs(tip - extrapolated.value) / std::abs(extrapolated.value));
+          table.set_errors(errors);
+        };
+        s.configure = [&](LinearElasticity<3> &problem, const MeshGroups &groups) {
           problem.add_dirichlet(groups.boundary_id("clamped"));
           if (gravity_case)
             problem.set_gravity(Tensor<1, 3>({0, 0, -gravity}));
           else
             problem.add_traction(groups.boundary_id("tip"),
-                                     Tensor<1, 3>({0, 0, -end_load / (width * height)}));
+                                 Tensor<1, 3>({0, 0, -end_load / (width * height)}));
         };
         s.evaluate = [&](const LinearElasticity<3> &problem, const MeshGroups &groups) {
           const double tip = -problem.boundary_mean_displacement(groups.boundary_id("tip"), 2);
           const double err = std::abs(tip - reference.timoshenko) / std::abs(reference.timoshenko);
-          return std::make_pair(err,
-                                std::vector<double>{tip, reference.euler_bernoulli, reference.timoshenko});
+          return std::make_pair(
+              err, std::vector<double>{tip, reference.euler_bernoulli, reference.timoshenko, err});
         };
         const MeshStudyTable table  = s.run(context);
         const auto          &finest = table.rows().back();
@@ -126,7 +145,17 @@ namespace nlmech
         context.summary.add_figure("tip_deflection", tip, "m");
         context.summary.add_figure("euler_bernoulli_tip_deflection", reference.euler_bernoulli, "m");
         context.summary.add_figure("timoshenko_tip_deflection", reference.timoshenko, "m");
-        context.summary.add_figure("relative_error_vs_timoshenko", finest.error, "1");
+        context.summary.add_figure("relative_error_vs_timoshenko", finest.extra[3], "1");
+        if (table.rows().size() >= 2)
+          {
+            context.summary.add_figure("tip_deflection_extrapolated", extrapolated.value, "m");
+            context.summary.add_figure("richardson_order", extrapolated.order, "1");
+            context.summary.add_bool("richardson_order_fitted", extrapolated.order_fitted);
+            context.summary.add_figure("relative_error_vs_extrapolated", finest.error, "1");
+            context.summary.add_figure(
+                "extrapolated_relative_error_vs_timoshenko",
+                std::abs(extrapolated.value - reference.timoshenko) / std::abs(reference.timoshenko), "1");
+          }
         context.summary.add_figure("relative_error_vs_euler_bernoulli",
                                    std::abs(tip - reference.euler_bernoulli) / reference.euler_bernoulli,
                                    "1");
@@ -134,7 +163,8 @@ namespace nlmech
           context.summary.add_figure("fitted_order_in_h", table.fitted_order_in_h(), "1");
         context.pcout << "cantilever: tip deflection " << tip << " m; Timoshenko " << reference.timoshenko
                       << " m; Euler-Bernoulli " << reference.euler_bernoulli << " m; relative error "
-                      << finest.error << std::endl;
+                      << finest.extra[3] << " against Timoshenko, " << finest.error
+                      << " against the 3D solution extrapolated over the levels" << std::endl;
       }
 
     private:

@@ -111,11 +111,17 @@ namespace nlmech
 
         work_done += std::pow(sizes[level] > 0 ? sizes[level] : 1.0, -double(dim));
         char label[160];
-        std::snprintf(label, sizeof(label), "level %u: h = %g m, %llu DOFs, %s = %.4g", level, sizes[level],
-                      row.n_dofs, error_name.c_str(), row.error);
+        if (finish) // the error is measured after the last level (against all of them)
+          std::snprintf(label, sizeof(label), "level %u: h = %g m, %llu DOFs", level, sizes[level],
+                        row.n_dofs);
+        else
+          std::snprintf(label, sizeof(label), "level %u: h = %g m, %llu DOFs, %s = %.4g", level, sizes[level],
+                        row.n_dofs, error_name.c_str(), row.error);
         progress.report(work_done, label);
       }
 
+    if (finish)
+      finish(table);
     if (context.is_root())
       {
         table.write_csv(context.output.file("mesh_study.csv"));
@@ -127,8 +133,9 @@ namespace nlmech
           }
         if (table.rows().size() >= 2)
           {
-            const std::string problem_with_plot = MeshStudyTable::plot(
-                context.output.file("mesh_study.csv"), context.output.file("mesh_study.png"), title);
+            const std::string problem_with_plot =
+                MeshStudyTable::plot(context.output.file("mesh_study.csv"),
+                                     context.output.file("mesh_study.png"), title, context_column);
             if (!problem_with_plot.empty())
               std::cerr << "nlmech: warning: mesh_study.png not written: " << problem_with_plot << std::endl;
             context.summary.add_bool("mesh_study_plot_written", problem_with_plot.empty());

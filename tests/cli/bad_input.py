@@ -123,6 +123,9 @@ def cases(source):
                                    "is not of the form angle:limit"),
         "dim-impossible-link": (dim("subsection Material\n  set Pattern = ring chain\n  subsection Ring chain\n"
                                     "    set Tube radius = 2.5\n  end\nend\n"), "needs R > 2 r for the rings to link"),
+        "dim-ring-chain-no-spacing": (dim("subsection Material\n  set Pattern = ring chain\n  subsection Ring chain\n"
+                                          "    set Ring radius = 4\n    set Tube radius = 1.5\n  end\nend\n"),
+                                      ["no spacing does, which needs R > 3 r", "R + r = 5.5", "2 (R - r) = 5"]),
         "dim-overlapping-elements": (dim("subsection Material\n  subsection Threefold\n    set Spacing = 4.2\n"
                                          "  end\nend\n"), "overlap in the initial pattern"),
         "dim-not-interlocked": (dim("subsection Material\n  subsection Threefold\n    set Wave height = 0\n"

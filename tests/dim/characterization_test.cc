@@ -181,15 +181,28 @@ TEST(Sampling, OnlyTheDrivenComponentDecidesWhetherASampleReachedItsFarTarget)
   EXPECT_TRUE(reached_far_target(s));
 }
 
+TEST(Sampling, LimitsTableReportsOnlyWhatWasSampled)
+{
+  // `Positive only`: the stretch limits were sampled, compression was not, so neither it nor the
+  // range of travel c (which needs both) may be reported as a number (it once read 0 and c).
+  std::vector<DirectionalLimits> stretch(2);
+  stretch[0].positive_p = 0.09, stretch[1].positive_p = 0.05;
+  std::istringstream table(limits_table(stretch, {}));
+  std::string        header, row;
+  std::getline(table, header);
+  std::getline(table, row);
+  EXPECT_EQ(row, "0,0.09,0,,,,,,,");
+}
+
 TEST(Sampling, LimitsTableHasARowPerDirectionOfEitherTestAndLeavesTheOthersFieldsEmpty)
 {
   // Six in-plane directions (every 30 deg), four bending ones (every 45 deg): rows at 0, 30, 45,
   // 60, 90, 120, 135, 150 deg.
   std::vector<DirectionalLimits> stretch(6), bending(4);
   for (unsigned d = 0; d < 6; ++d)
-    stretch[d].positive_p = 0.01 * (d + 1), stretch[d].negative_p = -0.01;
+    stretch[d].positive_p = 0.01 * (d + 1), stretch[d].negative_p = -0.01, stretch[d].negative_sampled = true;
   for (unsigned d = 0; d < 4; ++d)
-    bending[d].positive_p = 0.1 * (d + 1), bending[d].negative_p = -0.1;
+    bending[d].positive_p = 0.1 * (d + 1), bending[d].negative_p = -0.1, bending[d].negative_sampled = true;
   std::istringstream       table(limits_table(stretch, bending));
   std::vector<std::string> lines;
   for (std::string line; std::getline(table, line);)

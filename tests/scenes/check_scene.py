@@ -31,6 +31,8 @@ def main():
     parser.add_argument("--np", type=int, default=1)
     parser.add_argument("--expect", action="append", default=[])
     parser.add_argument("--expect-file", action="append", default=[])
+    parser.add_argument("--expect-absent", action="append", default=[],
+                        help="a summary.json key that must not be there (a figure not sampled)")
     args = parser.parse_args()
 
     work = tempfile.mkdtemp(prefix="nlmech_scene_")
@@ -55,6 +57,10 @@ def main():
             ok = OPS[op](value, float(bound))
             failures += not ok
             print(f"{'ok  ' if ok else 'FAIL'}: {key} = {value:.6g} {op} {bound}")
+        for key in args.expect_absent:
+            ok = key not in summary
+            failures += not ok
+            print(f"{'ok  ' if ok else 'FAIL'}: {key} not reported")
         for name in args.expect_file:
             ok = os.path.isfile(os.path.join(out, name)) and os.path.getsize(os.path.join(out, name)) > 0
             failures += not ok

@@ -28,6 +28,10 @@ namespace nlmech
 
     void                    add(const Row &row);
     const std::vector<Row> &rows() const { return table; }
+    /// Replaces the error of every row (one value per row).
+    void set_errors(const std::vector<double> &errors);
+    /// The index of an extra column by name (throws if there is none).
+    std::size_t extra_index(const std::string &name) const;
 
     /// Least-squares slope of log(error) against log(element size): the order in h.
     double fitted_order_in_h() const;
@@ -39,8 +43,9 @@ namespace nlmech
     void write_csv(const std::string &path) const;
     /// Runs contrib/plot/mesh_study.py on a written CSV; returns an empty string or the reason it
     /// could not plot.
+    /// `context_column` (optional): an extra column drawn beside the error, dashed.
     static std::string plot(const std::string &csv_path, const std::string &png_path,
-                            const std::string &title);
+                            const std::string &title, const std::string &context_column = "");
 
   private:
     std::string              error_name;
@@ -50,4 +55,15 @@ namespace nlmech
 
   /// Least-squares slope of y against x.
   double fitted_slope(const std::vector<double> &x, const std::vector<double> &y);
+
+  /// Richardson extrapolation of a quantity computed on meshes of sizes h (any ratios) to h = 0:
+  /// u(h) = u_0 + C h^p fitted to the three finest levels (p from them when the differences keep
+  /// their sign and shrink, else `assumed_order`), or to the two finest with p = `assumed_order`.
+  struct Extrapolation
+  {
+    double value = 0, order = 0;
+    bool   order_fitted = false;
+  };
+  Extrapolation richardson_extrapolation(const std::vector<double> &h, const std::vector<double> &u,
+                                         double assumed_order);
 } // namespace nlmech

@@ -212,6 +212,9 @@ namespace nlmech::dim
   {
     double theta      = 0;
     double positive_p = 0, positive_o = 0, negative_p = 0, negative_o = 0;
+    /// Whether the negative (compression, negative curvature) sample was taken (not with
+    /// `Positive only`): without it, the negative figures and the travel c are not reported.
+    bool negative_sampled = false;
   };
   std::vector<DirectionalLimits> directional_limits(const std::vector<Sample> &samples,
                                                     unsigned int               directions);

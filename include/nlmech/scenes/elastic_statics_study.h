@@ -32,6 +32,13 @@ namespace nlmech
     std::function<std::pair<double, std::vector<double>>(const LinearElasticity<dim> &, const MeshGroups &)>
         evaluate;
 
+    /// Optional: after all levels, before the table is written, e.g. to measure the errors against
+    /// a reference extrapolated from the levels themselves (MeshStudyTable::set_errors).
+    std::function<void(MeshStudyTable &)> finish;
+    /// An extra column drawn beside the error in mesh_study.png (e.g. the error against beam
+    /// theory, as context); empty: none.
+    std::string context_column;
+
     /// Runs all levels; writes mesh_study.csv/.png, solution.pvd and per-level VTU into the context.
     MeshStudyTable run(RunContext &context) const;
   };
