@@ -429,12 +429,30 @@ namespace nlmech::dim
       // Agree on errors and on an early stop before anybody reads the checkpoint.
       const auto errors = dealii::Utilities::MPI::all_gather(comm, error);
       for (const auto &e : errors)
-        AssertThrow(e.empty(), dealii::ExcMessage(e));
+        {
+          AssertThrow(e.empty() || statistics, dealii::ExcMessage(e));
+          if (!e.empty() && counts.failure.empty())
+            counts.failure = e;
+        }
       const unsigned stopped =
           dealii::Utilities::MPI::max(unsigned(plan.stop_after > 0 && new_samples >= plan.stop_after), comm);
       AssertThrow(stopped == 0,
                   dealii::ExcMessage("Sampling stopped after " + std::to_string(plan.stop_after) +
                                      " new samples, as asked ('Stop after'); run again to resume."));
+      if (!counts.failure.empty())
+        {
+          // Keep the samples that were finished, in job order, for the partial result.
+          std::vector<Sample> finished;
+          for (auto &s : jobs)
+            if (read_record(checkpoint_directory + "/" + s.key() + ".sample", s, plan.fingerprint) ==
+                RecordState::valid)
+              {
+                set_point(s);
+                finished.push_back(s);
+              }
+          jobs = finished;
+          return false;
+        }
       for (auto &s : jobs)
         {
           AssertThrow(
@@ -444,6 +462,7 @@ namespace nlmech::dim
                                  " is missing, unreadable or fails its checksum after it was written."));
           set_point(s);
         }
+      return true;
     };
 
     std::vector<Sample> phase1;
@@ -456,10 +475,10 @@ namespace nlmech::dim
             s.target_p = kind == SampleKind::positive ? far : -far;
             phase1.push_back(s);
           }
-    run_phase(phase1);
+    const bool phase1_done = run_phase(phase1);
     if (statistics)
       *statistics = counts;
-    if (plan.positive_only)
+    if (plan.positive_only || !phase1_done)
       return phase1;
     std::vector<Sample> phase2;
     for (unsigned d = 0; d < directions; ++d)

@@ -401,6 +401,18 @@ namespace nlmech
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             write_samples(context, test, samples);
+            if (!checkpoint_counts.failure.empty())
+              {
+                // Keep what was computed: the finished samples (also in the checkpoint, where a rerun
+                // resumes them); no boundary or limits from an incomplete set.
+                context.summary.add_number(test == "in-plane" ? "stretch_samples_finished"
+                                                              : "bending_samples_finished",
+                                           samples.size());
+                context.partial_reason =
+                    checkpoint_counts.failure + " (" + std::to_string(samples.size()) + " " + test +
+                    " samples finished and kept; a rerun resumes them from " + checkpoint + ")";
+                return;
+              }
             (test == "in-plane" ? stretch : bend) = directional_limits(samples, plan.directions_of(test));
             if (plan.positive_only)
               continue; // no boundary from one-sided samples

@@ -182,6 +182,9 @@ namespace nlmech::dim
     unsigned int computed = 0; // samples solved in this run, on this rank
     unsigned int stale    = 0; // found but written by another code version: recomputed
     unsigned int damaged  = 0; // found but unreadable, edited (checksum) or invalid: recomputed
+    /// The first sample that failed (its message), empty when all were solved. Then the returned
+    /// samples are those finished (in the checkpoint), and the phases after it were not run.
+    std::string failure;
   };
 
   /// Runs (or resumes) the sampling of one test ("in-plane" or "bending") over the communicator's
@@ -190,7 +193,9 @@ namespace nlmech::dim
   /// Every sample file carries the code version and a checksum over it, its key and the plan's
   /// fingerprint; a sample that fails them (edited by hand, of an older build, a negative gap, a
   /// non-finite value) is recomputed, and a directory with samples but no plan.txt is refused.
-  /// `statistics` (optional) counts what was resumed and recomputed.
+  /// `statistics` (optional) counts what was resumed and recomputed. A sample that fails ends the
+  /// sampling after its phase: with `statistics`, the finished samples are returned and the failure
+  /// is reported there (the caller keeps them as a partial result); without, it throws.
   /// Returns all samples of the test, in job order, on every rank. `progress(done, total)` is
   /// called on each rank after each of its samples.
   std::vector<Sample>
