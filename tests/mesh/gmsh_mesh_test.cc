@@ -90,7 +90,7 @@ TEST(GmshMesh, CantileverVolumeGroupsAndConstants)
 
 TEST(GmshMesh, MissingGroupIsAClearError)
 {
-  MeshOptions       options{source_dir + "/meshes/cantilever.geo", 0.1, {}};
+  MeshOptions       options{source_dir + "/meshes/cantilever.geo", 0.1, {}, ""};
   Triangulation<3>  tria;
   const MeshGroups  groups  = load_gmsh_mesh(options, tria);
   const std::string message = error_of([&] { groups.boundary_id("no-such-group"); });
@@ -100,7 +100,7 @@ TEST(GmshMesh, MissingGroupIsAClearError)
 
 TEST(GmshMesh, UnitSquareTriangles)
 {
-  MeshOptions      options{source_dir + "/meshes/unit_square.geo", 0.1, {}};
+  MeshOptions      options{source_dir + "/meshes/unit_square.geo", 0.1, {}, ""};
   Triangulation<2> tria;
   const MeshGroups groups = load_gmsh_mesh(options, tria);
   EXPECT_NEAR(measure(tria), 1.0, 1e-12);
@@ -111,7 +111,7 @@ TEST(GmshMesh, UnitSquareTriangles)
 
 TEST(GmshMesh, SphereSurfaceAsTriangulation2In3)
 {
-  MeshOptions         options{source_dir + "/meshes/sphere_surface.geo", 0.1, {{"R", 2.0}}};
+  MeshOptions         options{source_dir + "/meshes/sphere_surface.geo", 0.1, {{"R", 2.0}}, ""};
   Triangulation<2, 3> tria;
   load_gmsh_mesh(options, tria);
   const double exact = 4 * M_PI * 4.0;
@@ -124,7 +124,7 @@ TEST(GmshMesh, SphereSurfaceAsTriangulation2In3)
 
 TEST(GmshMesh, InvertedElementIsRejected)
 {
-  MeshOptions       options{source_dir + "/tests/data/inverted_tet.msh", 0, {}};
+  MeshOptions       options{source_dir + "/tests/data/inverted_tet.msh", 0, {}, ""};
   Triangulation<3>  tria;
   const std::string message = error_of([&] { load_gmsh_mesh(options, tria); });
   EXPECT_NE(message.find("inverted element 1"), std::string::npos) << message;
@@ -132,7 +132,7 @@ TEST(GmshMesh, InvertedElementIsRejected)
 
 TEST(GmshMesh, DegenerateElementIsRejected)
 {
-  MeshOptions       options{source_dir + "/tests/data/degenerate_tet.msh", 0, {}};
+  MeshOptions       options{source_dir + "/tests/data/degenerate_tet.msh", 0, {}, ""};
   Triangulation<3>  tria;
   const std::string message = error_of([&] { load_gmsh_mesh(options, tria); });
   EXPECT_NE(message.find("degenerate element 1"), std::string::npos) << message;
@@ -140,7 +140,7 @@ TEST(GmshMesh, DegenerateElementIsRejected)
 
 TEST(GmshMesh, EmptyMeshIsRejected)
 {
-  MeshOptions       options{source_dir + "/tests/data/surface_only.msh", 0, {}};
+  MeshOptions       options{source_dir + "/tests/data/surface_only.msh", 0, {}, ""};
   Triangulation<3>  tria;
   const std::string message = error_of([&] { load_gmsh_mesh(options, tria); });
   EXPECT_NE(message.find("has no tetrahedra"), std::string::npos) << message;
@@ -148,7 +148,7 @@ TEST(GmshMesh, EmptyMeshIsRejected)
 
 TEST(GmshMesh, MissingFileIsRejected)
 {
-  MeshOptions       options{source_dir + "/meshes/does-not-exist.geo", 0.1, {}};
+  MeshOptions       options{source_dir + "/meshes/does-not-exist.geo", 0.1, {}, ""};
   Triangulation<3>  tria;
   const std::string message = error_of([&] { load_gmsh_mesh(options, tria); });
   EXPECT_NE(message.find("does not exist"), std::string::npos) << message;

@@ -17,7 +17,7 @@ namespace
 {
   RawSimplexMesh<3> block_mesh(double h)
   {
-    MeshOptions options{std::string(NLMECH_SOURCE_DIR) + "/meshes/block.geo", h, {}};
+    MeshOptions options{std::string(NLMECH_SOURCE_DIR) + "/meshes/block.geo", h, {}, ""};
     return read_simplex_mesh<3>(options, 3);
   }
 

@@ -48,7 +48,7 @@ namespace
 
 TEST(InverseHyperelastic, ForceEqualsForwardGradientAndTangentMatchesDifferences)
 {
-  MeshOptions                            options{source_dir + "/meshes/block.geo", 0.5, {}};
+  MeshOptions                            options{source_dir + "/meshes/block.geo", 0.5, {}, ""};
   const RawSimplexMesh<3>                mesh   = read_simplex_mesh<3>(options, 3);
   const Eigen::VectorXd                  target = positions(mesh);
   std::mt19937                           random(1);
@@ -101,7 +101,8 @@ TEST_P(RoundTrip, ReproducesTheTarget)
 {
   // The target: a straight soft bar. Its rest shape must sag upwards so that gravity pulls it
   // straight (paper Fig. 5). Forward from the computed rest shape must give back the target.
-  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}};
+  MeshOptions options{
+      source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}, ""};
   const RawSimplexMesh<3> mesh   = read_simplex_mesh<3>(options, 3);
   const Eigen::VectorXd   target = positions(mesh);
   HyperelasticLoads       loads;
@@ -148,7 +149,8 @@ TEST(InverseHyperelastic, TooSoftBarHasAnUnstableTarget)
   // At E = 0.1 MPa the bar that should hang straight needs a rest shape curled into a hook (0.4 m
   // from the target); the straight target is then an unstable equilibrium of it (like an inverted
   // pendulum), so a fabricated part would not stay there. The system must say so.
-  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}};
+  MeshOptions options{
+      source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}, ""};
   const RawSimplexMesh<3> mesh   = read_simplex_mesh<3>(options, 3);
   const Eigen::VectorXd   target = positions(mesh);
   HyperelasticLoads       loads;
@@ -173,7 +175,8 @@ TEST(InverseHyperelastic, AnmAgreesWithNewton)
 {
   // A stiffer bar (E = 1 MPa), moderately nonlinear, where Newton with line search converges with
   // load stepping: both solvers must find the same rest shape.
-  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}};
+  MeshOptions options{
+      source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}, ""};
   const RawSimplexMesh<3> mesh     = read_simplex_mesh<3>(options, 3);
   HyperelasticMaterial    material = silicone();
   material.youngs_modulus          = 1e7;
@@ -198,7 +201,8 @@ TEST(InverseHyperelastic, MultiTargetRestShapeByReducedBasis)
 {
   // Paper section 5.2 on two load cases of one target (the bar straight under g and under 1.5 g):
   // individual rest shapes, the reduced-basis least-squares rest shape, and the forward results.
-  MeshOptions options{source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}};
+  MeshOptions options{
+      source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}, ""};
   const RawSimplexMesh<3>    mesh     = read_simplex_mesh<3>(options, 3);
   const HyperelasticMaterial material = silicone(1e6);
   HyperelasticLoads          loads;

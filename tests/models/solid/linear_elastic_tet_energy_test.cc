@@ -20,7 +20,7 @@ namespace
 
   RawSimplexMesh<3> cantilever_mesh(double h)
   {
-    MeshOptions options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", h, {}};
+    MeshOptions options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", h, {}, ""};
     return read_simplex_mesh<3>(options, 3);
   }
 } // namespace
@@ -98,7 +98,7 @@ TEST(NewtonSolver, ModelMatchesDealIIOnGravityCantilever)
   EXPECT_EQ(result.factorizations, result.iterations);
 
   parallel::shared::Triangulation<3> tria(MPI_COMM_SELF);
-  MeshOptions         options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", h, {}};
+  MeshOptions         options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", h, {}, ""};
   const MeshGroups    groups = load_gmsh_mesh(options, tria);
   LinearElasticity<3> problem(tria, steel, 1);
   problem.add_dirichlet(groups.boundary_id("clamped"));

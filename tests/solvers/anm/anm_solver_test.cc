@@ -13,7 +13,7 @@ namespace
 {
   HyperelasticProblem soft_cantilever(double gravity, HyperelasticLaw law = HyperelasticLaw::neo_hookean)
   {
-    MeshOptions             options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", 0.05, {}};
+    MeshOptions             options{std::string(NLMECH_SOURCE_DIR) + "/meshes/cantilever.geo", 0.05, {}, ""};
     const RawSimplexMesh<3> mesh = read_simplex_mesh<3>(options, 3);
     HyperelasticMaterial    material;
     material.law            = law;
@@ -61,7 +61,7 @@ TEST(AnmSolver, LimitPointOfStVenantKirchhoffCompression)
   // Uniaxial compression of a St.Venant-Kirchhoff block: the nominal stress E a (a^2 - 1) / 2 has
   // its extreme -E / (3 sqrt 3) at a = 1/sqrt 3. A dead load twice as large has no equilibrium: the
   // ANM must pass the limit point, report it at that load, and stop without reaching lambda = 1.
-  MeshOptions             options{std::string(NLMECH_SOURCE_DIR) + "/meshes/block.geo", 0.5, {}};
+  MeshOptions             options{std::string(NLMECH_SOURCE_DIR) + "/meshes/block.geo", 0.5, {}, ""};
   const RawSimplexMesh<3> mesh = read_simplex_mesh<3>(options, 3);
   HyperelasticMaterial    material;
   material.law            = HyperelasticLaw::saint_venant_kirchhoff;

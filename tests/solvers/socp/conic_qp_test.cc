@@ -259,9 +259,13 @@ TEST(ConicQP, NearlyInfeasibleProblemsEndInANamedStatus)
       EXPECT_NE(r.status, ConicStatus::solved) << "gap " << g;
       EXPECT_NE(r.status, ConicStatus::almost_solved) << "gap " << g;
       if (r.status == ConicStatus::iteration_limit)
-        EXPECT_GE(r.iterations, settings.max_iterations) << "gap " << g;
+        {
+          EXPECT_GE(r.iterations, settings.max_iterations) << "gap " << g;
+        }
       if (g >= 1e-4)
-        EXPECT_EQ(r.status, ConicStatus::primal_infeasible) << "gap " << g << ": " << to_string(r.status);
+        {
+          EXPECT_EQ(r.status, ConicStatus::primal_infeasible) << "gap " << g << ": " << to_string(r.status);
+        }
     }
 }
 
