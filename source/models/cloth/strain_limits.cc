@@ -75,6 +75,14 @@ namespace nlmech
     triangle.push_back(t);
   }
 
+  void StrainLimits::move(const std::size_t row, const double alpha)
+  {
+    const Eigen::Vector2d c = dm_inverse[triangle[row]] * Eigen::Vector2d(std::cos(alpha), std::sin(alpha));
+    coefficients[row]       = {{-(c[0] + c[1]), c[0], c[1]}};
+    bound[row]              = curve(alpha);
+    angle[row]              = alpha;
+  }
+
   StrainLimits make_strain_limits(const RawSimplexMesh<3> &mesh, const std::array<double, 3> &warp,
                                   const std::array<double, 3> &weft, const unsigned int directions,
                                   const std::function<double(double)> &limit, const double curve_tolerance,
@@ -255,6 +263,7 @@ namespace nlmech
                                              ConicSettings settings, const double screening)
       : limits(limits)
       , cuts_of_triangle(limits.triangles.size(), 0)
+      , cut_rows(limits.triangles.size())
       , mass(mass)
       , fixed(fixed)
       , settings(settings)
@@ -299,14 +308,30 @@ namespace nlmech
     if (excess <= limits.curve_tolerance)
       return 0;
     std::size_t added = 0;
+    std::size_t moved = 0;
     for (const auto &e : over)
       if (cuts_of_triangle[e.triangle] < max_cuts_per_triangle)
         {
+          cut_rows[e.triangle].push_back(limits.size());
           limits.add(e.triangle, e.alpha);
           ++cuts_of_triangle[e.triangle], ++added;
         }
+      else
+        {
+          // At the cap: the oldest cut of the triangle moves to the new direction (its pattern is
+          // the same, so the cone problem's structure does not change); its multipliers restart.
+          auto             &rows = cut_rows[e.triangle];
+          const std::size_t row  = rows.front();
+          rows.erase(rows.begin());
+          rows.push_back(row);
+          limits.move(row, e.alpha);
+          previously_active[row] = 0;
+          if (!previous_z.empty())
+            std::fill(previous_z.begin() + long(4 * row), previous_z.begin() + long(4 * row + 4), 0.0);
+          ++moved;
+        }
     if (added == 0)
-      return 0;
+      return moved;
     // Rows grouped by triangle, so that each triangle's cones share their columns in the problem.
     row_order.resize(limits.size());
     for (std::size_t i = 0; i < row_order.size(); ++i)
@@ -522,12 +547,14 @@ namespace nlmech
               break;
             result.cuts_added += cuts;
             include.resize(limits.size(), 0);
-            for (std::size_t i = before; i < limits.size(); ++i)
-              {
-                include[i] = 1;
-                for (const unsigned int v : limits.vertices[i])
-                  near_vertex[v] = 1;
-              }
+            for (std::size_t i = 0; i < limits.size(); ++i)
+              // The new rows, and cuts moved to a new direction that x now violates.
+              if (i >= before || (!include[i] && image(limits, i, x).norm() >= screening * limits.bound[i]))
+                {
+                  include[i] = 1;
+                  for (const unsigned int v : limits.vertices[i])
+                    near_vertex[v] = 1;
+                }
           }
         for (std::size_t i = 0; i < limits.size(); ++i)
           if (!include[i])

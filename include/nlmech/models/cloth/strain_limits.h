@@ -58,6 +58,8 @@ namespace nlmech
 
     /// Appends a row |F d(alpha)| <= b(alpha) for `triangle`.
     void add(unsigned int triangle, double alpha);
+    /// Moves row `row` (of the same triangle) to direction alpha.
+    void move(std::size_t row, double alpha);
   };
 
   /// Samples the polar limit curve b(alpha) at `directions` angles alpha_j = -pi/2 + (j + 1/2)
@@ -122,7 +124,8 @@ namespace nlmech
   /// The curve between the samples (cutting planes): after the rows hold, every triangle whose
   /// stretch exceeds b(alpha) by more than curve_tolerance (b - 1) in some direction gets a row in
   /// that direction, and the projection is solved again, until none does (at most
-  /// `max_cuts_per_triangle` cuts each; the cuts are kept for later projections).
+  /// `max_cuts_per_triangle` cuts each, past which the oldest cut of the triangle moves to the new
+  /// direction; the cuts are kept for later projections).
   class StrainLimitProjector
   {
   public:
@@ -152,16 +155,18 @@ namespace nlmech
     /// Adds cuts where the curve is exceeded at x; returns how many.
     std::size_t add_cuts(const Eigen::VectorXd &x, double &excess);
 
-    StrainLimits                  limits;
-    std::vector<unsigned int>     cuts_of_triangle;
-    std::vector<std::size_t>      row_order; // rows grouped by triangle (cones on the same columns)
-    Eigen::VectorXd               mass;
-    std::map<std::size_t, double> fixed;
-    ConicSettings                 settings;
-    std::vector<long>             free_index;
-    std::vector<std::size_t>      free_dofs;
-    double                        mass_scale = 1, screening = 0.98;
-    std::vector<char>             previously_active;
+    StrainLimits              limits;
+    std::vector<unsigned int> cuts_of_triangle;
+    /// Per triangle its cut rows, oldest first: at the cap, the oldest is moved to the new direction.
+    std::vector<std::vector<std::size_t>> cut_rows;
+    std::vector<std::size_t>              row_order; // rows grouped by triangle (cones on the same columns)
+    Eigen::VectorXd                       mass;
+    std::map<std::size_t, double>         fixed;
+    ConicSettings                         settings;
+    std::vector<long>                     free_index;
+    std::vector<std::size_t>              free_dofs;
+    double                                mass_scale = 1, screening = 0.98;
+    std::vector<char>                     previously_active;
     // Warm start (settings.warm_mu > 0): the last projection's correction x - x_hat and its cone
     // multipliers, 4 per limit (zero for limits left out of its cone problem).
     Eigen::VectorXd     previous_correction;
