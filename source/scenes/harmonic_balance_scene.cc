@@ -1111,8 +1111,13 @@ namespace nlmech
       /// HBM state reached from rest (Newton from the linear response) against Newmark from rest.
       void newmark_checks(RunContext &context, const HarmonicBalance &hb, const Structure &st) const
       {
+        context.summary.add_number("newmark_check_frequencies", double(check_frequencies.size()));
         if (check_frequencies.empty())
-          return;
+          {
+            context.pcout << "Newmark check: off (opt-in: set `Frequencies` in subsection `Newmark check`)"
+                          << std::endl;
+            return;
+          }
         TimerOutput::Scope t(context.timer, "Newmark checks");
         std::ostringstream table, trajectories;
         table << "omega,hbm_half_range,newmark_half_range,max_difference_relative,newmark_periods,newmark_"

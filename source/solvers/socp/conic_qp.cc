@@ -76,6 +76,13 @@ namespace nlmech
       // The smaller positive root of a t^2 + 2 b t + c, in the cancellation-free form.
       return c / (-b + std::sqrt(std::max(disc, 0.0)));
     }
+    /// Whether a run ended without an answer (no solution, no certificate).
+    bool failed(const ConicStatus status)
+    {
+      return status == ConicStatus::iteration_limit || status == ConicStatus::numerical_error ||
+             status == ConicStatus::stalled;
+    }
+
     /// Smallest eigenvalue u_0 - |u_1| of u in the cone's Jordan algebra.
     double min_eigenvalue(const Eigen::Ref<const Eigen::VectorXd> &u)
     {
@@ -119,6 +126,7 @@ namespace nlmech
         case ConicStatus::primal_infeasible: return "primal infeasible";
         case ConicStatus::iteration_limit: return "iteration limit";
         case ConicStatus::stalled: return "stalled";
+        case ConicStatus::dual_infeasible: return "dual infeasible";
         default: return "numerical error";
       }
   }
@@ -318,8 +326,9 @@ namespace nlmech
       }
   }
 
-  ConicResult ConicQPSolver::solve(const ConicQP &problem, const ConicSettings &settings,
-                                   const Eigen::VectorXd *x_start, const Eigen::VectorXd *z_start)
+  ConicResult ConicQPSolver::solve_once(const ConicQP &problem, const ConicSettings &settings,
+                                        const Eigen::VectorXd *x_start, const Eigen::VectorXd *z_start,
+                                        const bool embedded)
   {
     const auto         started = Clock::now();
     const Eigen::Index n = problem.G.cols(), rows = problem.G.rows();
@@ -420,10 +429,11 @@ namespace nlmech
     };
 
     // Starting point: (P + G^T G) x = -q + G^T h, s = h - G x, z = -s, shifted into the cones
-    // (CVXOPT's); or the centred start near x_start (no factorisation needed).
+    // (CVXOPT's); or the centred start near x_start (no factorisation needed). The embedding
+    // starts from CVXOPT's point with tau = kappa = 1.
     Eigen::VectorXd     w(rows);   // NT scaling points w of every cone (w^T J w = 1)
     std::vector<double> eta(m, 1); // and their factors
-    const bool          centred_start = x_start && settings.start_mu > 0;
+    const bool          centred_start = !embedded && x_start && settings.start_mu > 0;
     if (!centred_start)
       {
         assemble(problem, Eigen::VectorXd(), eta);
@@ -434,7 +444,8 @@ namespace nlmech
             return result;
           }
       }
-    Eigen::VectorXd x = x_start ? *x_start : normal_solve(-problem.q + problem.G.transpose() * problem.h);
+    Eigen::VectorXd x =
+        x_start && !embedded ? *x_start : normal_solve(-problem.q + problem.G.transpose() * problem.h);
     Eigen::VectorXd s = problem.h - problem.G * x, z = -s;
     auto            shift = [&](Eigen::VectorXd &u) {
       double worst = -std::numeric_limits<double>::infinity();
@@ -479,11 +490,15 @@ namespace nlmech
       }
     else
       shift(s), shift(z);
+    // The embedding's scalars (tau = 1, kappa = 0 fixed without it): x / tau solves the problem
+    // when tau stays away from 0; tau -> 0 with kappa > 0 leaves a certificate of infeasibility.
+    double tau = 1, kappa = embedded ? 1 : 0;
 
     const double    h_scale = std::max(1.0, problem.h.norm()), q_scale = std::max(1.0, problem.q.norm());
     Eigen::VectorXd lambda(rows);
     ConicStatus     status = ConicStatus::iteration_limit;
     ConicResult     last;
+    double          last_tau = 1;
     last.primal_residual = last.dual_residual = last.gap = std::numeric_limits<double>::infinity();
     // G v and G^T v in parallel (over the rows of a row-major copy, over the columns of G).
     const Eigen::SparseMatrix<double, Eigen::RowMajor> G_rows(problem.G);
@@ -525,36 +540,56 @@ namespace nlmech
             body(i, Eigen::Index(problem.cones[i]));
       });
     };
-    Eigen::VectorXd     t, Gdx, Gtt, dx, ds, dz, corrector, Gx, Gtz; // work vectors of an iteration
+    /// out = W^-2 u per cone (out may be u).
+    auto scale_twice_inverse = [&](const Eigen::VectorXd &u, Eigen::VectorXd &out) {
+      out.resize(rows);
+      cone_loop([&](const std::size_t i, const auto d) {
+        const double *wi = w.data() + offset[i];
+        apply_scaling(wi, eta[i], d, u.data() + offset[i], out.data() + offset[i], true);
+        apply_scaling(wi, eta[i], d, out.data() + offset[i], out.data() + offset[i], true);
+      });
+    };
+    Eigen::VectorXd     t, Gdx, Gtt, dx, ds, dz, corrector, Gx, Gtz, Px; // work vectors of an iteration
+    Eigen::VectorXd     dx_tau, dz_tau, Gdx_tau, c_tau;                  // the embedding's tau direction
     std::vector<double> cone_steps(m);
+    const double        degree            = double(m) + (embedded ? 1 : 0); // of the cone, with tau kappa
+    double              best_certificate  = std::numeric_limits<double>::infinity();
+    unsigned int        stale_certificate = 0;
     for (result.iterations = 0;; ++result.iterations)
       {
         G_times(x, Gx);
         Gt_times(z, Gtz);
-        const Eigen::VectorXd rx        = problem.P_diagonal.cwiseProduct(x) + problem.q + Gtz;
-        const Eigen::VectorXd rz        = s + Gx - problem.h;
-        const double          gap       = s.dot(z);
-        const double          objective = 0.5 * x.dot(problem.P_diagonal.cwiseProduct(x)) + problem.q.dot(x);
-        result.primal_residual          = rz.norm() / h_scale;
-        result.dual_residual            = rx.norm() / q_scale;
-        result.gap                      = std::abs(gap) / std::max(1.0, std::abs(objective));
-        result.objective                = objective;
+        Px                        = problem.P_diagonal.cwiseProduct(x);
+        const double          xPx = x.dot(Px);
+        const Eigen::VectorXd rx  = Px + tau * problem.q + Gtz;
+        const Eigen::VectorXd rz  = s + Gx - tau * problem.h;
+        const double          rt  = embedded ? kappa + problem.q.dot(x) + problem.h.dot(z) + xPx / tau : 0.0;
+        const double          gap = s.dot(z);
+        // Figures of the point x / tau, s / tau, z / tau.
+        const double objective = (0.5 * xPx / tau + problem.q.dot(x)) / tau;
+        result.primal_residual = rz.norm() / tau / h_scale;
+        result.dual_residual   = rx.norm() / tau / q_scale;
+        result.gap             = std::abs(gap) / (tau * tau) / std::max(1.0, std::abs(objective));
+        result.objective       = objective;
         if (std::getenv("NLMECH_SOCP_DEBUG"))
-          std::fprintf(stderr,
-                       "socp it %2u pres %.3e dres %.3e gap %.3e obj %.10g (%.3f s, %.3f s factorising, %.3f "
-                       "s solving, %.3f s assembling)\n",
-                       result.iterations, result.primal_residual, result.dual_residual, result.gap, objective,
-                       since(started), result.factorization_seconds, solve_seconds, assemble_seconds);
-        if (!(x.allFinite() && s.allFinite() && z.allFinite()) || !std::isfinite(result.gap))
+          std::fprintf(
+              stderr,
+              "socp%s it %2u pres %.3e dres %.3e gap %.3e obj %.10g tau %.2e kappa %.2e (%.3f s, %.3f s "
+              "factorising, %.3f s solving, %.3f s assembling)\n",
+              embedded ? " (embedded)" : "", result.iterations, result.primal_residual, result.dual_residual,
+              result.gap, objective, tau, kappa, since(started), result.factorization_seconds, solve_seconds,
+              assemble_seconds);
+        if (!(x.allFinite() && s.allFinite() && z.allFinite()) || !std::isfinite(result.gap) ||
+            !std::isfinite(tau * kappa) || tau <= 0)
           {
             // Back to the last finite iterate and its figures (the loose tolerances may hold).
-            x = last.x, s = last.s, z = last.z;
+            x = last.x, s = last.s, z = last.z, tau = last_tau;
             result.primal_residual = last.primal_residual, result.dual_residual = last.dual_residual;
             result.gap = last.gap, result.objective = last.objective;
             status = ConicStatus::numerical_error;
             break;
           }
-        last.x = x, last.s = s, last.z = z, last.primal_residual = result.primal_residual;
+        last.x = x, last.s = s, last.z = z, last_tau = tau, last.primal_residual = result.primal_residual;
         last.dual_residual = result.dual_residual, last.gap = result.gap, last.objective = objective;
         if (result.primal_residual <= settings.feasibility_tolerance &&
             result.dual_residual <= settings.feasibility_tolerance && result.gap <= settings.gap_tolerance)
@@ -563,10 +598,37 @@ namespace nlmech
             break;
           }
         const double hz = problem.h.dot(z);
+        if (std::getenv("NLMECH_SOCP_DEBUG") && hz < 0)
+          std::fprintf(stderr, "socp    certificate |G^T z| / -h^T z = %.3e\n", Gtz.norm() / -hz);
         if (hz < 0 && Gtz.norm() <= settings.infeasibility_tolerance * -hz)
           {
             status = ConicStatus::primal_infeasible;
             break;
+          }
+        if (embedded && tau < 1e-8)
+          {
+            // tau on its way to 0: an infeasible problem, whose certificate must now improve. Past
+            // a few steps without (its accuracy is bounded by rounding: |G^T z| / |z| near 1e-15
+            // for a gap of 1e-7 at the default tolerance), the run has stalled.
+            const double ratio = hz < 0 ? Gtz.norm() / -hz : std::numeric_limits<double>::infinity();
+            if (ratio < 0.5 * best_certificate)
+              best_certificate = ratio, stale_certificate = 0;
+            else if (++stale_certificate >= 5)
+              {
+                status = ConicStatus::stalled;
+                break;
+              }
+          }
+        if (embedded)
+          {
+            // A direction of unbounded descent: P x = 0, -G x in K (s = -G x), q^T x < 0.
+            const double qx = problem.q.dot(x);
+            if (qx < 0 && Px.norm() <= settings.infeasibility_tolerance * -qx &&
+                (Gx + s).norm() <= settings.infeasibility_tolerance * -qx)
+              {
+                status = ConicStatus::dual_infeasible;
+                break;
+              }
           }
         if (result.iterations >= settings.max_iterations)
           break;
@@ -592,30 +654,87 @@ namespace nlmech
           assemble(problem, w, eta);
           assemble_seconds += since(t0);
         }
-        if (!factorize())
+        bool factorised = factorize();
+        // With the embedding, a normal matrix that rounding has made indefinite (W^-2 over 30
+        // orders of magnitude as tau -> 0) is shifted by 1e-12, 1e-10, 1e-8 of its largest
+        // diagonal entry; the iterative refinement on the whole system below removes the shift.
+        for (double shift = 1e-12; embedded && !factorised && shift <= 1e-8; shift *= 100)
+          {
+            double largest = 0;
+            for (const long slot : diagonal_slot)
+              largest = std::max(largest, normal.valuePtr()[slot]);
+            for (const long slot : diagonal_slot)
+              normal.valuePtr()[slot] += shift * largest;
+            factorised = factorize();
+          }
+        if (!factorised)
           {
             status = ConicStatus::numerical_error;
             break;
           }
-        // Newton step for a right-hand side d of the linearised centrality lambda o (W^-1 ds + W dz) = ...
-        auto newton = [&](const Eigen::VectorXd &rhs, Eigen::VectorXd &dx, Eigen::VectorXd &ds,
-                          Eigen::VectorXd &dz) {
-          // t = W^-1 (W^-1 r_z + d); dx from the normal equations; dz = W^-2 G dx + t;
-          // ds = -r_z - G dx (equal to W (d - W dz), exact in the linear equation).
+        if (embedded && tau < 1e-8 && hz < 0)
+          {
+            // Polish the certificate with the factorisation at hand: z' = z - W^-2 G N^-1 G^T z
+            // removes G^T z but for P N^-1 G^T z (N = P + G^T W^-2 G, large as tau -> 0), where
+            // the iterates' own |G^T z| / |z| stops near 1e-14 from rounding. Taken if z' is still
+            // in K with h^T z' < 0 and passes the test.
+            const Eigen::VectorXd correction = normal_solve(Gtz);
+            G_times(correction, Gdx);
+            scale_twice_inverse(Gdx, t);
+            const Eigen::VectorXd polished = z - t;
+            bool                  inside   = true;
+            for (std::size_t i = 0; i < m && inside; ++i)
+              inside = min_eigenvalue(cblock(polished, i)) >= 0;
+            Gt_times(polished, Gtt);
+            const double hp = problem.h.dot(polished);
+            if (inside && hp < 0 && Gtt.norm() <= settings.infeasibility_tolerance * -hp)
+              {
+                z      = polished;
+                status = ConicStatus::primal_infeasible;
+                break;
+              }
+          }
+        // The embedding: the direction of a unit change of tau, (N dx_tau = G^T W^-2 h - q,
+        // dz_tau = W^-2 (G dx_tau - h)), shared by the predictor and the corrector, and the
+        // coefficient of d tau in the linearised third row
+        // d kappa + (2 P x / tau + q)^T dx + h^T dz - (x^T P x / tau^2) d tau = -r_tau.
+        double tau_coefficient = 0;
+        if (embedded)
+          {
+            scale_twice_inverse(problem.h, t);
+            Gt_times(t, Gtt);
+            dx_tau = normal_solve(Gtt - problem.q);
+            G_times(dx_tau, Gdx_tau);
+            Gdx_tau -= problem.h;
+            scale_twice_inverse(Gdx_tau, dz_tau);
+            Gdx_tau += problem.h;
+            c_tau           = (2 / tau) * Px + problem.q;
+            tau_coefficient = -kappa / tau + c_tau.dot(dx_tau) + problem.h.dot(dz_tau) - xPx / (tau * tau);
+          }
+        // The linearised system for the residuals (e_x, e_z, e_tau), the right-hand side d of
+        // the linearised centrality and (embedding) d_kappa:
+        //   P dx + G^T dz + q dtau = -e_x,            G dx + ds - h dtau = -e_z,
+        //   dkappa + c^T dx + h^T dz - (x^T P x / tau^2) dtau = -e_tau,
+        //   W^-1 ds + W dz = d,                       kappa dtau + tau dkappa = -d_kappa.
+        // t = W^-1 (W^-1 e_z + d); dx from the normal equations; dz = W^-2 G dx + t;
+        // ds = -e_z - G dx (+ h dtau) (equal to W (d - W dz), exact in the linear equation).
+        double dtau = 0, dkappa = 0;
+        auto   solve_linear = [&](const Eigen::VectorXd &e_x, const Eigen::VectorXd &e_z, const double e_tau,
+                                const Eigen::VectorXd &rhs, const double d_kappa, Eigen::VectorXd &dx,
+                                Eigen::VectorXd &ds, Eigen::VectorXd &dz, double &d_tau, double &d_kap) {
           t.resize(rows);
           cone_loop([&](const std::size_t i, const auto d) {
             double       *ti = t.data() + offset[i];
             const double *wi = w.data() + offset[i];
-            apply_scaling(wi, eta[i], d, rz.data() + offset[i], ti, true);
+            apply_scaling(wi, eta[i], d, e_z.data() + offset[i], ti, true);
             for (Eigen::Index k = 0; k < d; ++k)
               ti[k] += rhs[offset[i] + k];
             apply_scaling(wi, eta[i], d, ti, ti, true);
           });
           Gt_times(t, Gtt);
-          dx = normal_solve(-rx - Gtt);
+          dx = normal_solve(-e_x - Gtt);
           G_times(dx, Gdx);
           dz.resize(rows);
-          ds = -rz - Gdx;
           cone_loop([&](const std::size_t i, const auto d) {
             double       *dzi = dz.data() + offset[i];
             const double *wi  = w.data() + offset[i];
@@ -624,6 +743,56 @@ namespace nlmech
             for (Eigen::Index k = 0; k < d; ++k)
               dzi[k] += t[offset[i] + k];
           });
+          d_tau = d_kap = 0;
+          if (embedded)
+            {
+              d_tau = (-e_tau + d_kappa / tau - c_tau.dot(dx) - problem.h.dot(dz)) / tau_coefficient;
+              dx += d_tau * dx_tau, dz += d_tau * dz_tau, Gdx += d_tau * Gdx_tau;
+              d_kap = (-d_kappa - kappa * d_tau) / tau;
+            }
+          ds = -e_z - Gdx + d_tau * problem.h;
+        };
+        // Newton step: the residuals weighted by f. With the embedding, one step of iterative
+        // refinement on the whole linearised system (not only the normal equations): as tau goes
+        // to 0 the normal matrix spans many orders of magnitude, and without it the certificate's
+        // |G^T z| / -h^T z stopped at 1e-6 to 1e-8 for gaps of 1e-5 to 1e-7.
+        Eigen::VectorXd e_x, e_z, e_d, ex2, ez2, es2, Gtdz;
+        auto            newton = [&](const Eigen::VectorXd &rhs, const double f, const double d_kappa,
+                          Eigen::VectorXd &dx, Eigen::VectorXd &ds, Eigen::VectorXd &dz) {
+          e_x = f * rx, e_z = f * rz;
+          solve_linear(e_x, e_z, f * rt, rhs, d_kappa, dx, ds, dz, dtau, dkappa);
+          if (!embedded)
+            return;
+          Gt_times(dz, Gtdz);
+          G_times(dx, Gdx);
+          ex2              = problem.P_diagonal.cwiseProduct(dx) + Gtdz + dtau * problem.q + e_x;
+          ez2              = Gdx + ds - dtau * problem.h + e_z;
+          const double et2 = dkappa + c_tau.dot(dx) + problem.h.dot(dz) - xPx / (tau * tau) * dtau + f * rt;
+          const double ek2 = kappa * dtau + tau * dkappa + d_kappa;
+          e_d.resize(rows);
+          cone_loop([&](const std::size_t i, const auto d) {
+            // -(W^-1 ds + W dz - d)
+            double        u[64], v[64];
+            const double *wi = w.data() + offset[i];
+            double       *ei = e_d.data() + offset[i];
+            if (d > 64)
+              {
+                Eigen::VectorXd U{Eigen::Index(d)}, V{Eigen::Index(d)};
+                apply_scaling(wi, eta[i], d, ds.data() + offset[i], U.data(), true);
+                apply_scaling(wi, eta[i], d, dz.data() + offset[i], V.data(), false);
+                for (Eigen::Index k = 0; k < d; ++k)
+                  ei[k] = rhs[offset[i] + k] - U[k] - V[k];
+                return;
+              }
+            apply_scaling(wi, eta[i], d, ds.data() + offset[i], u, true);
+            apply_scaling(wi, eta[i], d, dz.data() + offset[i], v, false);
+            for (Eigen::Index k = 0; k < d; ++k)
+              ei[k] = rhs[offset[i] + k] - u[k] - v[k];
+          });
+          Eigen::VectorXd cx, cs, cz;
+          double          ct = 0, ck = 0;
+          solve_linear(ex2, ez2, et2, e_d, ek2, cx, cs, cz, ct, ck);
+          dx += cx, ds += cs, dz += cz, dtau += ct, dkappa += ck;
         };
         auto max_step = [&](const Eigen::VectorXd &ds, const Eigen::VectorXd &dz) {
           cone_loop([&](const std::size_t i, const auto d) {
@@ -631,14 +800,21 @@ namespace nlmech
             cone_steps[i]        = std::min(step_to_boundary(s.data() + o, ds.data() + o, d),
                                             step_to_boundary(z.data() + o, dz.data() + o, d));
           });
-          return *std::min_element(cone_steps.begin(), cone_steps.end());
+          double step = *std::min_element(cone_steps.begin(), cone_steps.end());
+          if (dtau < 0)
+            step = std::min(step, -tau / dtau);
+          if (dkappa < 0)
+            step = std::min(step, -kappa / dkappa);
+          return step;
         };
         // Predictor (affine scaling): lambda o d = -lambda o lambda, i.e. d = -lambda.
-        newton(-lambda, dx, ds, dz);
+        newton(-lambda, 1, tau * kappa, dx, ds, dz);
         const double alpha_a = std::min(1.0, max_step(ds, dz));
-        const double mu      = gap / double(m);
-        const double mu_a    = (s + alpha_a * ds).dot(z + alpha_a * dz) / double(m);
-        const double sigma   = std::clamp(std::pow(std::max(mu_a, 0.0) / mu, 3), 0.0, 1.0);
+        const double mu      = (gap + tau * kappa) / degree;
+        const double mu_a =
+            ((s + alpha_a * ds).dot(z + alpha_a * dz) + (tau + alpha_a * dtau) * (kappa + alpha_a * dkappa)) /
+            degree;
+        const double sigma = std::clamp(std::pow(std::max(mu_a, 0.0) / mu, 3), 0.0, 1.0);
         // Corrector: lambda o d = sigma mu e - lambda o lambda - (W^-1 ds_a) o (W dz_a).
         corrector.resize(rows);
         cone_loop([&](const std::size_t i, const auto dim) {
@@ -664,9 +840,13 @@ namespace nlmech
             r[k] = -2 * li[0] * li[k] - (u[0] * v[k] + v[0] * u[k]);
           jordan_solve(li, r, dim, corrector.data() + offset[i]);
         });
-        newton(corrector, dx, ds, dz);
+        // Without the embedding the corrector removes the whole residual (CVXOPT's); with it,
+        // the residuals shrink with the complementarity, by 1 - sigma (as ECOS and Clarabel).
+        const double d_kappa = tau * kappa + dtau * dkappa - sigma * mu;
+        newton(corrector, embedded ? 1 - sigma : 1.0, d_kappa, dx, ds, dz);
         const double alpha = std::min(1.0, settings.step_fraction * max_step(ds, dz));
         x += alpha * dx, s += alpha * ds, z += alpha * dz;
+        tau += alpha * dtau, kappa += alpha * dkappa;
         if (std::getenv("NLMECH_SOCP_DEBUG"))
           std::fprintf(stderr, "socp    affine step %.3f sigma %.2e step %.3f\n", alpha_a, sigma, alpha);
         if (alpha < 1e-10)
@@ -675,8 +855,7 @@ namespace nlmech
             break;
           }
       }
-    if (status == ConicStatus::iteration_limit || status == ConicStatus::numerical_error ||
-        status == ConicStatus::stalled)
+    if (failed(status))
       {
         const double loose = settings.almost_factor;
         if (result.primal_residual <= loose * settings.feasibility_tolerance &&
@@ -684,22 +863,58 @@ namespace nlmech
             result.gap <= loose * settings.gap_tolerance)
           status = ConicStatus::almost_solved;
       }
-    result.status = status;
-    result.x = x, result.s = s, result.z = z;
+    result.status   = status;
+    result.embedded = embedded;
+    if (status == ConicStatus::primal_infeasible)
+      {
+        // The certificate, scaled to h^T z = -1 (CVXOPT's convention).
+        const double hz = -problem.h.dot(z);
+        result.x = x / tau, result.s = s / hz, result.z = z / hz;
+      }
+    else if (status == ConicStatus::dual_infeasible)
+      {
+        // The direction, scaled to q^T x = -1.
+        const double qx = -problem.q.dot(x);
+        result.x = x / qx, result.s = s / qx, result.z = z / tau;
+      }
+    else
+      result.x = x / tau, result.s = s / tau, result.z = z / tau;
     result.seconds = since(started);
-    if (centred_start && (status == ConicStatus::iteration_limit || status == ConicStatus::numerical_error ||
-                          status == ConicStatus::stalled))
+    return result;
+  }
+
+  ConicResult ConicQPSolver::solve(const ConicQP &problem, const ConicSettings &settings,
+                                   const Eigen::VectorXd *x_start, const Eigen::VectorXd *z_start)
+  {
+    const auto  started = Clock::now();
+    const bool  embed   = settings.method == ConicMethod::embedded;
+    ConicResult result  = solve_once(problem, settings, x_start, z_start, embed);
+    auto        again   = [&](const ConicSettings &s, const bool embedded) {
+      ConicResult next = solve_once(problem, s, nullptr, nullptr, embedded);
+      next.iterations += result.iterations;
+      next.factorization_seconds += result.factorization_seconds;
+      return next;
+    };
+    if (!embed && failed(result.status) && x_start && settings.start_mu > 0)
       {
         // The centred start can be poor far from the solution (mu too small for the residuals):
         // start again from CVXOPT's point.
         ConicSettings standard = settings;
         standard.start_mu      = 0;
-        ConicResult again      = solve(problem, standard, nullptr);
-        again.iterations += result.iterations;
-        again.factorization_seconds += result.factorization_seconds;
-        again.seconds = since(started);
-        return again;
+        result                 = again(standard, false);
       }
+    if (settings.method == ConicMethod::automatic && failed(result.status))
+      {
+        // A stall or an iteration limit of the direct method, typical within about 1e-5 of
+        // infeasibility: the embedding certifies either way (or fails too; then the direct
+        // method's figures are kept, with both methods' iterations).
+        ConicResult embedded = again(settings, true);
+        if (!failed(embedded.status))
+          result = embedded;
+        else
+          result.iterations = embedded.iterations;
+      }
+    result.seconds = since(started);
     return result;
   }
 } // namespace nlmech
