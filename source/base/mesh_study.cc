@@ -4,6 +4,7 @@
 
 #include <nlmech/base/atomic_output.h>
 #include <nlmech/base/json.h>
+#include <nlmech/base/plot.h>
 
 #include <algorithm>
 #include <cmath>
@@ -137,13 +138,9 @@ namespace nlmech
   std::string MeshStudyTable::plot(const std::string &csv_path, const std::string &png_path,
                                    const std::string &title, const std::string &context_column)
   {
-    const std::string script = std::string(NLMECH_SOURCE_DIR) + "/contrib/plot/mesh_study.py";
-    if (!std::filesystem::exists(script))
-      return "plot script " + script + " not found";
-    const std::string command = std::string(NLMECH_PYTHON) + " '" + script + "' '" + csv_path + "' '" +
-                                png_path + "' '" + title + "'" +
-                                (context_column.empty() ? "" : " '" + context_column + "'");
-    const int status = std::system(command.c_str());
-    return status == 0 ? "" : "python3/matplotlib failed (exit status " + std::to_string(status) + ")";
+    std::vector<std::string> arguments = {csv_path, png_path, title};
+    if (!context_column.empty())
+      arguments.push_back(context_column);
+    return run_plot("mesh_study.py", arguments) ? "" : "python3/matplotlib failed";
   }
 } // namespace nlmech

@@ -8,6 +8,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <nlmech/app/command_line.h>
+#include <nlmech/base/plot.h>
 #include <nlmech/base/progress.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
@@ -559,14 +560,9 @@ namespace nlmech
         write_file_atomically(context.output.file("energy.csv"), csv);
         if (!times.empty())
           write_vertex_fields_pvd(mesh, context.output.file(""), "sheet", times, fields);
-        const std::string command =
-            std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR + "/contrib/plot/biphasic.py' '" +
-            context.output.file("energy.csv") + "' '" + context.output.file("limits.csv") + "' '" +
-            context.output.file("energy.png") + "' '" + context.output.file("limits.png") + "' '" +
-            context.output.file("stretch_reached.csv") + "'";
-        if (std::system(command.c_str()) != 0)
-          std::cerr << "nlmech: warning: the energy and limit plots could not be drawn (python3/matplotlib)."
-                    << std::endl;
+        run_plot("biphasic.py", {context.output.file("energy.csv"), context.output.file("limits.csv"),
+                                 context.output.file("energy.png"), context.output.file("limits.png"),
+                                 context.output.file("stretch_reached.csv")});
       }
 
       double                                 size       = 0.5;

@@ -7,6 +7,7 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 
+#include <nlmech/base/plot.h>
 #include <nlmech/base/progress.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
@@ -528,13 +529,9 @@ namespace nlmech
                   write_elements_vtu(test.assembly(), bending_state, {{{0, 0}}},
                                      context.output.file("patch-bending-limit.vtu"));
               }
-            const std::string command =
-                std::string(NLMECH_PYTHON) + " '" + NLMECH_SOURCE_DIR + "/contrib/plot/dim_limits.py' '" +
-                context.output.file("limits.csv") + "' '" + context.output.file("limits-stretch.png") +
-                "' '" + context.output.file("limits-bending.png") + "' '" + pattern.name + "'";
-            if (std::system(command.c_str()) != 0)
-              std::cerr << "nlmech: warning: the polar limit plots could not be drawn (python3/matplotlib)."
-                        << std::endl;
+            run_plot("dim_limits.py",
+                     {context.output.file("limits.csv"), context.output.file("limits-stretch.png"),
+                      context.output.file("limits-bending.png"), pattern.name});
           }
       }
 

@@ -11,38 +11,6 @@ namespace nlmech
 {
   using namespace dealii;
 
-  std::vector<double> parse_number_list(const std::string &text, const std::string &entry)
-  {
-    std::vector<double> values;
-    for (const auto &piece : Utilities::split_string_list(text, ','))
-      {
-        if (piece.empty())
-          continue;
-        char        *end   = nullptr;
-        const double value = std::strtod(piece.c_str(), &end);
-        AssertThrow(end && *end == '\0' && std::isfinite(value),
-                    ExcMessage("The entry <" + entry + "> must be a comma-separated list of numbers; <" +
-                               piece + "> is not a number."));
-        values.push_back(value);
-      }
-    return values;
-  }
-
-  template <int dim>
-  Tensor<1, dim> parse_vector(const std::string &text, const std::string &entry)
-  {
-    const auto values = parse_number_list(text, entry);
-    AssertThrow(values.size() == dim,
-                ExcMessage("The entry <" + entry + "> needs " + std::to_string(dim) + " components; it has " +
-                           std::to_string(values.size()) + "."));
-    Tensor<1, dim> v;
-    for (unsigned int d = 0; d < dim; ++d)
-      v[d] = values[d];
-    return v;
-  }
-  template Tensor<1, 2> parse_vector<2>(const std::string &, const std::string &);
-  template Tensor<1, 3> parse_vector<3>(const std::string &, const std::string &);
-
   void MeshParameters::declare_parameters(ParameterHandler &prm, const std::string &default_file,
                                           const double default_size)
   {
@@ -171,39 +139,6 @@ namespace nlmech
     material.density        = prm.get_double("Density");
     prm.leave_subsection();
     material.check();
-  }
-
-  std::vector<std::pair<std::string, Tensor<1, 3>>> parse_group_vectors(const std::string &text,
-                                                                        const std::string &entry)
-  {
-    std::vector<std::pair<std::string, Tensor<1, 3>>> out;
-    for (const auto &item : Utilities::split_string_list(text, ';'))
-      if (!item.empty())
-        {
-          const auto parts = Utilities::split_string_list(item, ':');
-          AssertThrow(parts.size() == 2 && !parts[0].empty(),
-                      ExcMessage("The entry <" + entry + "> must read `group: v_x, v_y, v_z; ...`; <" + item +
-                                 "> does not."));
-          out.emplace_back(parts[0], parse_vector<3>(parts[1], entry));
-        }
-    return out;
-  }
-
-  std::vector<std::pair<Point<3>, Tensor<1, 3>>> parse_point_vectors(const std::string &text,
-                                                                     const std::string &entry)
-  {
-    std::vector<std::pair<Point<3>, Tensor<1, 3>>> out;
-    for (const auto &item : Utilities::split_string_list(text, ';'))
-      if (!item.empty())
-        {
-          const auto parts = Utilities::split_string_list(item, ':');
-          AssertThrow(parts.size() == 2, ExcMessage("The entry <" + entry +
-                                                    "> must read `x, y, z: f_x, f_y, f_z; "
-                                                    "...`; <" +
-                                                    item + "> does not."));
-          out.emplace_back(Point<3>(parse_vector<3>(parts[0], entry)), parse_vector<3>(parts[1], entry));
-        }
-    return out;
   }
 
   void DiscretizationParameters::declare_parameters(ParameterHandler &prm, const unsigned int default_degree)

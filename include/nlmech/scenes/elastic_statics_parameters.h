@@ -5,6 +5,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/tensor.h>
 
+#include <nlmech/base/parse.h>
 #include <nlmech/mesh/gmsh_mesh.h>
 #include <nlmech/models/solid/hyperelastic_tet_energy.h>
 #include <nlmech/models/solid/linear_elasticity.h>
@@ -62,13 +63,6 @@ namespace nlmech
     void        parse_parameters(dealii::ParameterHandler &prm);
   };
 
-  /// "group: t_x, t_y, t_z; ..." -> (group, vector) pairs.
-  std::vector<std::pair<std::string, dealii::Tensor<1, 3>>> parse_group_vectors(const std::string &text,
-                                                                                const std::string &entry);
-  /// "x, y, z: f_x, f_y, f_z; ..." -> (point, vector) pairs.
-  std::vector<std::pair<dealii::Point<3>, dealii::Tensor<1, 3>>>
-  parse_point_vectors(const std::string &text, const std::string &entry);
-
   /// subsection Discretization
   struct DiscretizationParameters
   {
@@ -87,8 +81,4 @@ namespace nlmech
     void        parse_parameters(dealii::ParameterHandler &prm);
   };
 
-  /// "a, b, c" -> {a, b, c} with a clear error naming the entry.
-  std::vector<double> parse_number_list(const std::string &text, const std::string &entry);
-  template <int dim>
-  dealii::Tensor<1, dim> parse_vector(const std::string &text, const std::string &entry);
 } // namespace nlmech
