@@ -13,6 +13,7 @@
 #include <nlmech/base/scene.h>
 #include <nlmech/dim/characterization.h>
 #include <nlmech/dim/element_output.h>
+#include <nlmech/scenes/dim/pattern_plugin.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
 
 #include <algorithm>
@@ -37,75 +38,16 @@ namespace nlmech
       static void declare_parameters(ParameterHandler &prm)
       {
         prm.enter_subsection("Material");
-        prm.declare_entry(
-            "Pattern", "threefold",
-            Patterns::Selection("4-in-1|threefold|torus knot|scale mail|ring chain|mesh element"),
-            "The interlocking pattern (ring chain: the validation material with a closed-form "
-            "stretch limit; mesh element: any shape from a triangulated surface, placed by the "
-            "'Mesh element' subsection).");
+        const auto &patterns = PatternRegistry::instance();
+        std::string descriptions;
+        for (const auto &p : patterns.plugins())
+          descriptions += (descriptions.empty() ? "" : "; ") + p.name + ": " + p.description;
+        prm.declare_entry("Pattern", "threefold", Patterns::Selection(patterns.names_separated_by("|")),
+                          "The interlocking pattern, its dimensions in the subsection of its name (" +
+                              descriptions + ").");
         prm.declare_entry("Density", "1.24e-6", Patterns::Double(0),
                           "Element material density [kg/mm^3] (PLA).");
-        prm.enter_subsection("4-in-1");
-        prm.declare_entry("Ring radius", "3", Patterns::Double(0), "R, centreline radius [mm].");
-        prm.declare_entry("Tube radius", "0.5", Patterns::Double(0), "r [mm].");
-        prm.declare_entry("Tilt", "30", Patterns::Double(0, 80),
-                          "Tilt of the rings about the column axis [deg].");
-        prm.declare_entry("Column spacing", "2", Patterns::Double(0), "a [mm].");
-        prm.declare_entry("Row spacing", "7.5", Patterns::Double(0), "b [mm].");
-        prm.declare_entry("Segments", "64", Patterns::Integer(8), "Centreline segments per ring.");
-        prm.leave_subsection();
-        prm.enter_subsection("Threefold");
-        prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R [mm].");
-        prm.declare_entry("Tube radius", "0.5", Patterns::Double(0), "r [mm].");
-        prm.declare_entry("Wave height", "0.8", Patterns::Double(0), "h of z = h cos 6 (t - 15 deg) [mm].");
-        prm.declare_entry("Spacing", "5.657", Patterns::Double(0), "D, triangular lattice spacing [mm].");
-        prm.declare_entry("Segments", "96", Patterns::Integer(48), "Centreline segments per ring.");
-        prm.leave_subsection();
-        prm.enter_subsection("Torus knot");
-        prm.declare_entry("p", "3", Patterns::Integer(1), "Turns around the symmetry axis.");
-        prm.declare_entry("q", "4", Patterns::Integer(1), "Turns around the tube (q-fold symmetry).");
-        prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R [mm].");
-        prm.declare_entry("Knot offset", "1.5", Patterns::Double(0),
-                          "a, radius of the winding about the core [mm].");
-        prm.declare_entry("Tube radius", "0.5", Patterns::Double(0), "r [mm].");
-        prm.declare_entry("Spacing", "9.5", Patterns::Double(0), "D, square lattice spacing [mm].");
-        prm.declare_entry("Phase", "0", Patterns::Double(), "Rotation of every element about z [deg].");
-        prm.declare_entry("Segments", "192", Patterns::Integer(8), "Centreline segments per element.");
-        prm.leave_subsection();
-        prm.enter_subsection("Scale mail");
-        prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R of the base ring [mm].");
-        prm.declare_entry("Tube radius", "0.5", Patterns::Double(0), "r [mm].");
-        prm.declare_entry("Wave height", "0.8", Patterns::Double(0), "h of the base ring [mm].");
-        prm.declare_entry("Spacing", "5.657", Patterns::Double(0), "D [mm].");
-        prm.declare_entry("Plate radius", "2.45", Patterns::Double(0), "Hexagon circumradius [mm].");
-        prm.declare_entry("Plate thickness", "0.8", Patterns::Double(0), "[mm].");
-        prm.declare_entry("Plate height", "2.3", Patterns::Double(0),
-                          "Plate mid-plane above the ring plane [mm].");
-        prm.declare_entry("Segments", "96", Patterns::Integer(48), "Centreline segments per ring.");
-        prm.leave_subsection();
-        prm.enter_subsection("Ring chain");
-        prm.declare_entry("Ring radius", "4", Patterns::Double(0), "R [mm].");
-        prm.declare_entry("Tube radius", "1", Patterns::Double(0), "r [mm].");
-        prm.declare_entry("Spacing", "5.5", Patterns::Double(0), "Distance of linked rings at rest [mm].");
-        prm.declare_entry("Row spacing", "12", Patterns::Double(0), "Distance of the (unlinked) rows [mm].");
-        prm.declare_entry("Segments", "64", Patterns::Integer(8), "Centreline segments per ring.");
-        prm.leave_subsection();
-        prm.enter_subsection("Mesh element");
-        prm.declare_entry("Mesh file", "", Patterns::Anything(),
-                          "Triangulated surface of the element: gmsh .msh, or a .geo source meshed in 2D "
-                          "(relative to this file) [mm].");
-        prm.declare_entry("Mesh size", "0", Patterns::Double(0),
-                          "Largest triangle edge for a .geo source [mm] (0: the file's own sizes).");
-        prm.declare_entry("Skin radius", "0", Patterns::Double(0),
-                          "Swept-sphere radius around every triangle [mm] (needed for an open surface).");
-        prm.declare_entry("Lattice vector 1", "10, 0", Patterns::List(Patterns::Double(), 2, 2),
-                          "t1 of the periodic cell [mm].");
-        prm.declare_entry("Lattice vector 2", "0, 10", Patterns::List(Patterns::Double(), 2, 2),
-                          "t2 of the periodic cell [mm].");
-        prm.declare_entry("Elements", "0, 0, 0, 0, 0, 0", Patterns::Anything(),
-                          "The cell's elements, separated by ';': centre x, y, z [mm] and rotation vector "
-                          "[deg] each.");
-        prm.leave_subsection();
+        patterns.declare_parameters(prm);
         prm.leave_subsection();
 
         prm.enter_subsection("Contact");
@@ -158,100 +100,8 @@ namespace nlmech
         prm.enter_subsection("Material");
         material_name = prm.get("Pattern");
         density       = prm.get_double("Density");
-        // Each pattern's dimensions are read and checked here, so a bad file fails before any work.
-        if (material_name == "4-in-1")
-          {
-            prm.enter_subsection("4-in-1");
-            FourInOneDimensions d;
-            d.R = prm.get_double("Ring radius"), d.r = prm.get_double("Tube radius");
-            d.tilt = prm.get_double("Tilt") * degree, d.a = prm.get_double("Column spacing");
-            d.b = prm.get_double("Row spacing"), d.segments = prm.get_integer("Segments");
-            pattern = four_in_one_pattern(d, density);
-            prm.leave_subsection();
-          }
-        else if (material_name == "threefold")
-          {
-            prm.enter_subsection("Threefold");
-            ThreefoldDimensions d;
-            d.R = prm.get_double("Ring radius"), d.r = prm.get_double("Tube radius");
-            d.h = prm.get_double("Wave height"), d.D = prm.get_double("Spacing");
-            d.segments = prm.get_integer("Segments");
-            pattern    = threefold_pattern(d, density);
-            prm.leave_subsection();
-          }
-        else if (material_name == "torus knot")
-          {
-            prm.enter_subsection("Torus knot");
-            TorusKnotDimensions d;
-            d.p = prm.get_integer("p"), d.q = prm.get_integer("q"), d.R = prm.get_double("Ring radius");
-            d.a = prm.get_double("Knot offset"), d.r = prm.get_double("Tube radius");
-            d.D = prm.get_double("Spacing"), d.phase = prm.get_double("Phase") * degree;
-            d.segments = prm.get_integer("Segments");
-            pattern    = torus_knot_pattern(d, density);
-            prm.leave_subsection();
-          }
-        else if (material_name == "scale mail")
-          {
-            prm.enter_subsection("Scale mail");
-            ScaleMailDimensions d;
-            d.R = prm.get_double("Ring radius"), d.r = prm.get_double("Tube radius");
-            d.h = prm.get_double("Wave height"), d.D = prm.get_double("Spacing");
-            d.plate_radius    = prm.get_double("Plate radius"),
-            d.plate_thickness = prm.get_double("Plate thickness");
-            d.plate_height = prm.get_double("Plate height"), d.segments = prm.get_integer("Segments");
-            pattern = scale_mail_pattern(d, density);
-            prm.leave_subsection();
-          }
-        else if (material_name == "mesh element")
-          {
-            prm.enter_subsection("Mesh element");
-            const std::string file = resolve_input_path(prm.get("Mesh file"), current_parameter_directory());
-            AssertThrow(!prm.get("Mesh file").empty(),
-                        ExcMessage("Mesh element: give the 'Mesh file' of the element's surface."));
-            pattern.name = "mesh element";
-            pattern.shapes.push_back(triangle_mesh_element(file, prm.get_double("Skin radius"), density,
-                                                           prm.get_double("Mesh size"),
-                                                           prm.get("Mesh file")));
-            auto vector2 = [&](const std::string &entry) {
-              const auto v = Utilities::string_to_double(Utilities::split_string_list(prm.get(entry)));
-              return Eigen::Vector2d(v[0], v[1]);
-            };
-            pattern.t1 = vector2("Lattice vector 1"), pattern.t2 = vector2("Lattice vector 2");
-            AssertThrow(std::abs(pattern.t1.x() * pattern.t2.y() - pattern.t1.y() * pattern.t2.x()) > 1e-9,
-                        ExcMessage("Mesh element: the lattice vectors must not be parallel."));
-            for (const auto &element : Utilities::split_string_list(prm.get("Elements"), ';'))
-              {
-                std::vector<double> v;
-                try
-                  {
-                    v = Utilities::string_to_double(Utilities::split_string_list(element));
-                  }
-                catch (...)
-                  {
-                  }
-                AssertThrow(v.size() == 6,
-                            ExcMessage("Mesh element: every entry of 'Elements' needs six numbers "
-                                       "(x, y, z, rotation vector in degrees): <" +
-                                       element + ">."));
-                for (const double x : v)
-                  AssertThrow(std::isfinite(x),
-                              ExcMessage("Mesh element: the entry <" + element +
-                                         "> of 'Elements' has a number that is not finite."));
-                pattern.shape_of.push_back(0);
-                pattern.centres.emplace_back(v[0], v[1], v[2]);
-                pattern.rotations.push_back(Eigen::Vector3d(v[3], v[4], v[5]) * degree);
-              }
-            pattern.neighbours = 0; // no centreline: links are not checked
-            prm.leave_subsection();
-          }
-        else
-          {
-            prm.enter_subsection("Ring chain");
-            pattern = ring_chain_pattern(prm.get_double("Ring radius"), prm.get_double("Tube radius"),
-                                         prm.get_double("Spacing"), prm.get_integer("Segments"),
-                                         prm.get_double("Row spacing"), density);
-            prm.leave_subsection();
-          }
+        // The pattern's dimensions are read and checked here, so a bad file fails before any work.
+        pattern = PatternRegistry::instance().get(material_name).create(prm)->pattern(density);
         prm.leave_subsection();
 
         prm.enter_subsection("Contact");
