@@ -7,7 +7,7 @@
 // of all the projections of a repeat.
 //
 // usage: projection_profile [n = 10] [limit = 1.01] [steps = 10] [late = 3] [repeats = 20]
-#include <nlmech/models/cloth/cloth_simulation.h>
+#include <nlmech/solvers/time/cloth_simulation.h>
 
 #include <algorithm>
 #include <cstdio>

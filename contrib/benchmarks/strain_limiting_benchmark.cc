@@ -21,7 +21,7 @@
 //   what holding the limit curve between the samples costs: the swinging sheet by SAP with the
 //   sampled rows only (curve tolerance 0) and with the curve held to 0.1 of the strain, side by side
 //   (projection time per step, iterations, cuts, the largest excess over the curve).
-#include <nlmech/models/cloth/cloth_simulation.h>
+#include <nlmech/solvers/time/cloth_simulation.h>
 
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>

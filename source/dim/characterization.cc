@@ -1,6 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
-#include <nlmech/app/command_line.h>
+#include <nlmech/base/exceptions.h>
 #include <nlmech/dim/characterization.h>
 #include <nlmech/solvers/newton/newton_solver.h>
 

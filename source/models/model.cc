@@ -207,6 +207,14 @@ namespace nlmech
     return alpha;
   }
 
+  double Model::first_invalid_along_series(const std::vector<Eigen::VectorXd> &path, const double a_max) const
+  {
+    double a = a_max;
+    for (const auto &t : energy_terms)
+      a = std::min(a, t->first_invalid_along_series(path, a_max));
+    return a;
+  }
+
   DerivativeCheck check_derivatives(const EnergyTerm &term, const Eigen::VectorXd &x, const double h)
   {
     const std::size_t n    = x.size();

@@ -7,14 +7,14 @@
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/mpi.h>
 
-#include <nlmech/app/command_line.h>
+#include <nlmech/base/exceptions.h>
 #include <nlmech/base/plot.h>
 #include <nlmech/base/progress.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/mesh/vertex_field_output.h>
-#include <nlmech/models/cloth/cloth_simulation.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
+#include <nlmech/solvers/time/cloth_simulation.h>
 
 #include <algorithm>
 #include <cmath>

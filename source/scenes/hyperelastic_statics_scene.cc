@@ -143,10 +143,9 @@ namespace nlmech
         if (methods.count("anm"))
           {
             TimerOutput::Scope t(context.timer, "ANM");
-            x_anm = problem.rest_positions;
-            const AnmResult result =
-                AnmSolver(problem.internal, problem.load, anm, problem.elastic.get()).solve(x_anm);
-            JsonObject s;
+            x_anm                  = problem.rest_positions;
+            const AnmResult result = AnmSolver(problem.internal, problem.load, anm).solve(x_anm);
+            JsonObject      s;
             s.add_bool("completed", result.completed);
             s.add_number("lambda_reached", result.lambda);
             s.add_number("largest_lambda_on_path", result.extreme_lambda);
@@ -211,7 +210,7 @@ namespace nlmech
             NoxNewtonSettings settings;
             settings.load_steps         = newton_steps;
             settings.relative_tolerance = anm.residual_tolerance;
-            const ModelEquilibrium system(problem.internal, problem.elastic.get());
+            const ModelEquilibrium system(problem.internal);
             const auto             energy = [&](const Eigen::VectorXd &q) {
               return problem.internal.is_valid(q) ? problem.internal.energy(q)
                                                               : std::numeric_limits<double>::infinity();
@@ -290,7 +289,7 @@ namespace nlmech
                                const Eigen::VectorXd &solution) const
       {
         TimerOutput::Scope t(context.timer, "ANM load-scale changes");
-        const AnmSolver    solver(problem.internal, problem.load, anm, problem.elastic.get());
+        const AnmSolver    solver(problem.internal, problem.load, anm);
         const AnmSeries    series = solver.series_at(solution, 1.0);
         const FreeDofMap   free(problem.internal);
         const double       g = free.restrict(problem.load).norm();

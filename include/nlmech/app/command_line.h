@@ -6,6 +6,8 @@
 //   nlmech --list-scenes                       list the registered scenes
 // User mistakes end in one clear message on stderr and a non-zero exit status.
 
+#include <nlmech/base/exceptions.h>
+
 #include <mpi.h>
 
 #include <exception>
@@ -14,13 +16,6 @@
 namespace nlmech
 {
   int run_command_line(int argc, char **argv, MPI_Comm comm);
-
-  /// The message of an exception in one paragraph, without deal.II's source-location banner.
-  std::string message_of(const std::exception &e);
-
-  /// Inside a catch block: one line saying what was thrown, whatever its type (deal.II and standard
-  /// exceptions, the std::string that gmsh throws, anything else), and of which type it was.
-  std::string describe_current_exception();
 
   /// The value of the top-level `set Scene type = NAME` entry of a parameter file, or "" if absent.
   std::string read_scene_type(const std::string &parameter_file);

@@ -71,6 +71,12 @@ namespace nlmech
     virtual bool is_valid(const Eigen::VectorXd &) const { return true; }
     /// Largest alpha in (0, 1] such that x + t dx stays valid for all t in [0, alpha).
     virtual double max_safe_step(const Eigen::VectorXd &, const Eigen::VectorXd &) const { return 1.0; }
+    /// Smallest a in (0, a_max] where the truncated series x(a) = sum_k a^k path[k] leaves the
+    /// valid states (an element inverts), or a_max: the ANM's step bound.
+    virtual double first_invalid_along_series(const std::vector<Eigen::VectorXd> &, double a_max) const
+    {
+      return a_max;
+    }
   };
 
   /// Whether an element type brings its own ANM series kernel

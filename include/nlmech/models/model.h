@@ -45,6 +45,8 @@ namespace nlmech
     bool            has_series() const;
     bool            is_valid(const Eigen::VectorXd &x) const;
     double          max_safe_step(const Eigen::VectorXd &x, const Eigen::VectorXd &dx) const;
+    /// The smallest of the terms' first_invalid_along_series (the ANM's step bound).
+    double first_invalid_along_series(const std::vector<Eigen::VectorXd> &path, double a_max) const;
 
   private:
     std::size_t                                    n;

@@ -114,9 +114,8 @@ namespace nlmech
     AssertThrow(settings.order >= 2, dealii::ExcMessage("The ANM truncation order must be at least 2."));
   }
 
-  AnmSolver::AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings,
-                       const HyperelasticTetTerm *inversion_guard)
-      : owned(std::make_shared<ModelEquilibrium>(internal, inversion_guard))
+  AnmSolver::AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings)
+      : owned(std::make_shared<ModelEquilibrium>(internal))
       , system(*owned)
       , load(load)
       , settings(settings)

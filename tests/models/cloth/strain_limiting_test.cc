@@ -1,8 +1,9 @@
 // Strain limits and their projection: the directional stretch against the analytic value, the SOCP
 // projection against the Gauss-Seidel baseline (it must be feasible and never farther away), convex
 // limits only, infeasible pins, and the energy behaviour of the time-stepping schemes.
-#include <nlmech/models/cloth/cloth_simulation.h>
 #include <nlmech/models/cloth/strain_limits.h>
+#include <nlmech/solvers/socp/strain_projection.h>
+#include <nlmech/solvers/time/cloth_simulation.h>
 
 #include <gtest/gtest.h>
 

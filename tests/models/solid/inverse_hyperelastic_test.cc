@@ -136,7 +136,7 @@ TEST_P(RoundTrip, ReproducesTheTarget)
     EXPECT_TRUE(factorization.positive_definite());
   }
   Eigen::VectorXd x     = forward.rest_positions;
-  const AnmResult check = AnmSolver(forward.internal, forward.load, settings, forward.elastic.get()).solve(x);
+  const AnmResult check = AnmSolver(forward.internal, forward.load, settings).solve(x);
   ASSERT_TRUE(check.completed) << check.stop_reason;
   const double diagonal = std::sqrt(0.3 * 0.3 + 2 * 0.03 * 0.03);
   EXPECT_LT((x - target).lpNorm<Eigen::Infinity>() / diagonal, 1e-6);
@@ -239,8 +239,7 @@ TEST(InverseHyperelastic, MultiTargetRestShapeByReducedBasis)
     {
       forward.load      = scale * g;
       Eigen::VectorXd y = forward.rest_positions;
-      ASSERT_TRUE(
-          AnmSolver(forward.internal, forward.load, settings, forward.elastic.get()).solve(y).completed);
+      ASSERT_TRUE(AnmSolver(forward.internal, forward.load, settings).solve(y).completed);
       const double miss = (y - x).lpNorm<Eigen::Infinity>();
       EXPECT_GT(miss, 1e-6);
       EXPECT_LT(miss, spread);

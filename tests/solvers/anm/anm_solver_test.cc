@@ -34,8 +34,7 @@ TEST(AnmSolver, AgreesWithNewtonOnLargeDeflection)
   Eigen::VectorXd           anm     = problem.rest_positions;
   AnmSettings               settings;
   settings.residual_tolerance = 1e-10;
-  const AnmResult result =
-      AnmSolver(problem.internal, problem.load, settings, problem.elastic.get()).solve(anm);
+  const AnmResult result      = AnmSolver(problem.internal, problem.load, settings).solve(anm);
   ASSERT_TRUE(result.completed) << result.stop_reason;
   std::cout << "ANM: " << result.steps.size() << " steps, " << result.factorizations << " factorizations, "
             << result.back_substitutions << " back-substitutions; series " << result.series_seconds
@@ -74,8 +73,7 @@ TEST(AnmSolver, LimitPointOfStVenantKirchhoffCompression)
   loads.tractions                   = {{"x1", Tensor<1, 3>({-2 * limit, 0, 0})}};
   const HyperelasticProblem problem = make_hyperelastic_problem(mesh, material, conditions, loads);
   Eigen::VectorXd           x       = problem.rest_positions;
-  const AnmResult           result =
-      AnmSolver(problem.internal, problem.load, AnmSettings(), problem.elastic.get()).solve(x);
+  const AnmResult           result  = AnmSolver(problem.internal, problem.load, AnmSettings()).solve(x);
   EXPECT_FALSE(result.completed);
   EXPECT_NE(result.stop_reason.find("limit point"), std::string::npos) << result.stop_reason;
   EXPECT_NEAR(result.extreme_lambda * 2 * limit / limit, 1.0, 1e-4);
@@ -90,7 +88,7 @@ TEST(AnmSolver, LoadScaleChangeFromTheSeriesAtTheSolution)
   Eigen::VectorXd           x       = problem.rest_positions;
   AnmSettings               settings;
   settings.residual_tolerance = 1e-10;
-  const AnmSolver solver(problem.internal, problem.load, settings, problem.elastic.get());
+  const AnmSolver solver(problem.internal, problem.load, settings);
   ASSERT_TRUE(solver.solve(x).completed);
   const AnmSeries series = solver.series_at(x, 1.0);
   EXPECT_LT((series.state(0) - x).norm(), 1e-14 * x.norm());
@@ -119,17 +117,17 @@ TEST(AnmSolver, LoadDirectionChangeFromAKnownSolution)
   AnmSettings               settings;
   settings.residual_tolerance = 1e-10;
   Eigen::VectorXd x           = problem.rest_positions;
-  ASSERT_TRUE(AnmSolver(problem.internal, problem.load, settings, problem.elastic.get()).solve(x).completed);
+  ASSERT_TRUE(AnmSolver(problem.internal, problem.load, settings).solve(x).completed);
 
   Eigen::VectorXd new_load = problem.load;
   for (Eigen::Index i = 1; i < new_load.size(); i += 3)
     new_load[i] = 0.5 * problem.load[i + 1]; // y component: half the weight, sideways
-  const ModelEquilibrium  forward(problem.internal, problem.elastic.get());
+  const ModelEquilibrium  forward(problem.internal);
   const LoadShiftedSystem shifted(forward, problem.load);
   ASSERT_TRUE(AnmSolver(shifted, new_load - problem.load, settings).solve(x).completed);
 
   Eigen::VectorXd fresh = problem.rest_positions;
-  ASSERT_TRUE(AnmSolver(problem.internal, new_load, settings, problem.elastic.get()).solve(fresh).completed);
+  ASSERT_TRUE(AnmSolver(problem.internal, new_load, settings).solve(fresh).completed);
   const double deflection = (fresh - problem.rest_positions).lpNorm<Eigen::Infinity>();
   EXPECT_LT((x - fresh).lpNorm<Eigen::Infinity>() / deflection, 1e-8);
 }
@@ -141,12 +139,10 @@ TEST(AnmSolver, PadeApproximantsLengthenSteps)
   AnmSettings               settings;
   settings.residual_tolerance = 1e-10;
   Eigen::VectorXd plain       = problem.rest_positions;
-  const AnmResult without =
-      AnmSolver(problem.internal, problem.load, settings, problem.elastic.get()).solve(plain);
-  settings.pade        = true;
-  Eigen::VectorXd pade = problem.rest_positions;
-  const AnmResult with =
-      AnmSolver(problem.internal, problem.load, settings, problem.elastic.get()).solve(pade);
+  const AnmResult without     = AnmSolver(problem.internal, problem.load, settings).solve(plain);
+  settings.pade               = true;
+  Eigen::VectorXd pade        = problem.rest_positions;
+  const AnmResult with        = AnmSolver(problem.internal, problem.load, settings).solve(pade);
   ASSERT_TRUE(without.completed) << without.stop_reason;
   ASSERT_TRUE(with.completed) << with.stop_reason;
   const double deflection = (plain - problem.rest_positions).lpNorm<Eigen::Infinity>();

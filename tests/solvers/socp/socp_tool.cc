@@ -7,6 +7,7 @@
 #include <nlmech/models/cloth/strain_limits.h>
 #include <nlmech/models/dynamics/thin_shell.h>
 #include <nlmech/solvers/socp/conic_qp.h>
+#include <nlmech/solvers/socp/strain_projection.h>
 
 #include <algorithm>
 #include <cmath>

@@ -159,6 +159,10 @@ namespace nlmech
     /// Smallest a in (0, a_max] where det F of some element vanishes along the truncated series
     /// x(a) = sum_k a^k path[k] (det F(a) expanded by Taylor arithmetic), or a_max if none.
     double first_inversion_along_series(const std::vector<Eigen::VectorXd> &path, double a_max) const;
+    double first_invalid_along_series(const std::vector<Eigen::VectorXd> &path, double a_max) const override
+    {
+      return first_inversion_along_series(path, a_max);
+    }
     /// Smallest det F over the elements.
     double min_jacobian(const Eigen::VectorXd &x) const;
   };

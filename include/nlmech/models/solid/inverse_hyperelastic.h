@@ -6,8 +6,8 @@
 // same energy density W(F) as the forward problem, F = D_s(x) D_m(X)^-1.
 
 #include <nlmech/mesh/gmsh_mesh.h>
+#include <nlmech/models/equilibrium_system.h>
 #include <nlmech/models/solid/hyperelastic_tet_energy.h>
-#include <nlmech/solvers/anm/equilibrium_system.h>
 
 #include <map>
 #include <vector>

@@ -7,9 +7,8 @@
 // (paper eqs. 19-20), or before any element would invert (first root of det F(a)); a few Newton
 // corrections follow; lambda = target is landed on exactly by root finding on lambda(a).
 
+#include <nlmech/models/equilibrium_system.h>
 #include <nlmech/models/model.h>
-#include <nlmech/models/solid/hyperelastic_tet_energy.h>
-#include <nlmech/solvers/anm/equilibrium_system.h>
 
 #include <memory>
 #include <string>
@@ -91,10 +90,9 @@ namespace nlmech
   public:
     /// `system`: r(q) and its tangent; `load`: g (a full-length vector).
     AnmSolver(const EquilibriumSystem &system, const Eigen::VectorXd &load, const AnmSettings &settings);
-    /// Forward statics of a Model; `inversion_guard`: if given, steps stop short of the first
-    /// inversion of one of its elements.
-    AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings,
-              const HyperelasticTetTerm *inversion_guard = nullptr);
+    /// Forward statics of a Model; steps stop short of the first state its terms call invalid
+    /// along the series (an inverted hyperelastic element).
+    AnmSolver(const Model &internal, const Eigen::VectorXd &load, const AnmSettings &settings);
 
     /// Follows the branch from (x, lambda_start) to lambda_target; x is updated. Never throws for a
     /// branch that cannot be followed: the result says how far it got and why it stopped.

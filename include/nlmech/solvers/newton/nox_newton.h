@@ -7,7 +7,7 @@
 // answer to round-off. NLMECH_NOX_VERBOSE=1 in the environment prints NOX's iterations and line
 // searches.
 
-#include <nlmech/solvers/anm/equilibrium_system.h>
+#include <nlmech/models/equilibrium_system.h>
 
 #include <mpi.h>
 

@@ -3,7 +3,7 @@
 // inverse-design comparison. Each iteration solves (J^T J + mu diag(J^T J)) dq = -J^T R with CHOLMOD;
 // mu shrinks after a successful step and grows after a rejected one.
 
-#include <nlmech/solvers/anm/equilibrium_system.h>
+#include <nlmech/models/equilibrium_system.h>
 
 namespace nlmech
 {

@@ -5,7 +5,6 @@
 // problem adapts a Model (r = grad E); inverse rest-shape design implements it directly.
 
 #include <nlmech/models/model.h>
-#include <nlmech/models/solid/hyperelastic_tet_energy.h>
 
 #include <map>
 #include <vector>
@@ -33,13 +32,12 @@ namespace nlmech
     }
   };
 
-  /// Forward statics: r = grad E of a Model; validity from an optional hyperelastic term.
+  /// Forward statics: r = grad E of a Model; validity and the series step bound from its terms.
   class ModelEquilibrium : public EquilibriumSystem
   {
   public:
-    ModelEquilibrium(const Model &model, const HyperelasticTetTerm *inversion_guard = nullptr)
+    explicit ModelEquilibrium(const Model &model)
         : model(model)
-        , guard(inversion_guard)
     {
     }
     std::size_t                          n_unknowns() const override { return model.n_unknowns(); }
@@ -59,12 +57,11 @@ namespace nlmech
     }
     double first_invalid_along_series(const std::vector<Eigen::VectorXd> &path, double a_max) const override
     {
-      return guard ? guard->first_inversion_along_series(path, a_max) : a_max;
+      return model.first_invalid_along_series(path, a_max);
     }
 
   private:
-    const Model               &model;
-    const HyperelasticTetTerm *guard;
+    const Model &model;
   };
   /// r(q) - g_known: continuing from a solution under g_known towards another load g_new is the
   /// ANM on this system with the load g_new - g_known (a load-direction change from a known

@@ -1,7 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
-#include <nlmech/models/cloth/cloth_simulation.h>
 #include <nlmech/solvers/newton/newton_solver.h>
+#include <nlmech/solvers/time/cloth_simulation.h>
 
 #include <chrono>
 #include <cmath>

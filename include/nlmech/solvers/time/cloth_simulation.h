@@ -17,8 +17,8 @@
 //        kind of instability for a BDF2 mid-step velocity).
 // Total energy = kinetic + elastic + gravity potential + penalty energy, recorded by the caller.
 
-#include <nlmech/models/cloth/strain_limits.h>
 #include <nlmech/models/dynamics/thin_shell.h>
+#include <nlmech/solvers/socp/strain_projection.h>
 
 #include <limits>
 #include <memory>
