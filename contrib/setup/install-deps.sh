@@ -8,6 +8,7 @@ packages=(
   libgmsh-dev gmsh      # gmsh C++ API for meshing .geo sources
   libeigen3-dev libfftw3-dev libsuitesparse-dev
   libcgal-dev           # CGAL: strain-space boundary meshes (convex hull, AABB tree, inside tests)
+  nlohmann-json3-dev    # nlohmann::json: summary.json
   libopenblas0-serial   # optimised BLAS/LAPACK behind UMFPACK/CHOLMOD (serial: one thread per MPI rank)
   openmpi-bin
   coinor-libipopt-dev   # Ipopt: the general nonlinear-programming baseline of the strain-limiting benchmark

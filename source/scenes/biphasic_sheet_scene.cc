@@ -1,29 +1,29 @@
 // Scene "biphasic-sheet": a cloth or chainmail sheet that is soft until direction-dependent stretch
 // limits, enforced exactly by projection onto second-order cones inside implicit time stepping (the
 // SOCP paper; thesis ch. 3). Drapes, swinging sheets and sheets falling on a sphere, with any of
-// the schemes IE, SAP, SAR, BDF2, BAP, BAR side by side (thesis Fig. 3.4).
+// the schemes IE, SAP, SAR, BDF2, BAP, BAR side by side (thesis Fig. 3.4). Its parameters:
+// scenes/sheet/sheet_settings.h.
 
 #include <deal.II/base/exceptions.h>
-#include <deal.II/base/function_parser.h>
 #include <deal.II/base/mpi.h>
 
+#include <nlmech/base/atomic_output.h>
 #include <nlmech/base/exceptions.h>
 #include <nlmech/base/plot.h>
 #include <nlmech/base/progress.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/mesh/vertex_field_output.h>
-#include <nlmech/scenes/elastic_statics_parameters.h>
+#include <nlmech/scenes/sheet/scheme_outcome.h>
+#include <nlmech/scenes/sheet/sheet_settings.h>
 #include <nlmech/solvers/time/cloth_simulation.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <iomanip>
 #include <limits>
 #include <sstream>
-#include <stdexcept>
 
 namespace nlmech
 {
@@ -31,246 +31,28 @@ namespace nlmech
 
   namespace
   {
-    /// One scheme's run, packed into a string (length-prefixed fields) for the gather to rank 0.
-    struct SchemeOutcome
-    {
-      struct Figure
-      {
-        std::string name;
-        double      value;
-        std::string unit;
-      };
-      std::size_t         index = 0;
-      std::string         csv, message, error;
-      std::vector<Figure> figures;
-      std::vector<double> reached;       // largest stretch per grid direction over the run
-      std::string         check_failure; // the curve was not held to its tolerance
-
-      static void put(std::string &out, const std::string &field)
-      {
-        out += std::to_string(field.size()) + ":" + field;
-      }
-      static std::string take(const std::string &in, std::size_t &pos)
-      {
-        const std::size_t colon = in.find(':', pos);
-        const std::size_t n     = std::stoul(in.substr(pos, colon - pos));
-        std::string       field = in.substr(colon + 1, n);
-        pos                     = colon + 1 + n;
-        return field;
-      }
-      void pack(std::string &out) const
-      {
-        put(out, std::to_string(index)), put(out, csv), put(out, message), put(out, error);
-        put(out, check_failure);
-        char value[64];
-        put(out, std::to_string(reached.size()));
-        for (const double r : reached)
-          {
-            std::snprintf(value, sizeof value, "%.17g", r);
-            put(out, value);
-          }
-        put(out, std::to_string(figures.size()));
-        for (const auto &f : figures)
-          {
-            std::snprintf(value, sizeof value, "%.17g", f.value);
-            put(out, f.name), put(out, value), put(out, f.unit);
-          }
-      }
-      static SchemeOutcome unpack(const std::string &in, std::size_t &pos)
-      {
-        SchemeOutcome o;
-        o.index             = std::stoul(take(in, pos));
-        o.csv               = take(in, pos);
-        o.message           = take(in, pos);
-        o.error             = take(in, pos);
-        o.check_failure     = take(in, pos);
-        const std::size_t m = std::stoul(take(in, pos));
-        for (std::size_t k = 0; k < m; ++k)
-          o.reached.push_back(std::strtod(take(in, pos).c_str(), nullptr));
-        const std::size_t n = std::stoul(take(in, pos));
-        for (std::size_t k = 0; k < n; ++k)
-          {
-            Figure f;
-            f.name  = take(in, pos);
-            f.value = std::strtod(take(in, pos).c_str(), nullptr);
-            f.unit  = take(in, pos);
-            o.figures.push_back(f);
-          }
-        return o;
-      }
-    };
-
     class BiphasicSheetScene : public Scene
     {
     public:
-      static void declare_parameters(ParameterHandler &prm)
-      {
-        prm.enter_subsection("Sheet");
-        prm.declare_entry("Size", "0.5", Patterns::Double(0),
-                          "Side of the square sheet [m] (xz-plane, y up).");
-        prm.declare_entry("Resolution", "20", Patterns::Integer(1), "Quads per side (2 triangles each) [-].");
-        prm.declare_entry("Pinned points", "0, 0, 0; 0.5, 0, 0", Patterns::Anything(),
-                          "Points (x, y, z) [m], separated by ';', whose nearest vertices stay fixed.");
-        prm.declare_entry("Pin offsets", "", Patterns::Anything(),
-                          "Empty, or one displacement (x, y, z) [m] per pinned point, separated by ';': "
-                          "grips moved before the first step (limits they cannot meet are reported as "
-                          "infeasible).");
-        prm.declare_entry("Thickness", "0.0005", Patterns::Double(0), "[m]");
-        prm.declare_entry("Density", "200", Patterns::Double(0), "[kg/m^3]");
-        prm.declare_entry("Young's modulus", "1800", Patterns::Double(0), "[Pa]");
-        prm.declare_entry("Poisson's ratio", "0.41", Patterns::Double(-1, 0.5), "[-]");
-        prm.leave_subsection();
-        prm.enter_subsection("Strain limits");
-        prm.declare_entry("Limit", "1.01", Patterns::Anything(),
-                          "Largest stretch |F d| >= 1 in the material direction d = (cos alpha, sin alpha) "
-                          "(alpha from the warp axis x towards the weft axis z), a formula in alpha [rad] "
-                          "(e.g. 1.01, or 1/sqrt(cos(alpha)^2/1.02^2 + sin(alpha)^2/1.2^2) for an "
-                          "orthotropic ellipse) [-].");
-        prm.declare_entry("Limit samples", "", Patterns::Anything(),
-                          "Instead of the formula: measured samples 'angle:limit; ...' with the angle in "
-                          "degrees from the warp axis (e.g. 0:1.02; 45:1.08; 90:1.2), interpolated "
-                          "linearly and periodically over 180 degrees (d and -d are one direction).");
-        prm.declare_entry("Directions", "4", Patterns::Integer(1),
-                          "Sampled directions per triangle, alpha_j = -pi/2 + (j + 1/2) pi / n [-].");
-        prm.declare_entry("Curve tolerance", "0.1", Patterns::Double(0),
-                          "The limit curve is held between the sampled directions too: a triangle "
-                          "stretched beyond b(alpha) + tol (b(alpha) - 1) in any direction gets a further "
-                          "cone in that direction (cutting planes) and is projected again. A fraction of "
-                          "the requested strain; 0: only the sampled directions are held (with lateral "
-                          "contraction a 1 % limit sampled at 4 directions then allows 9.3 % along x) [-].");
-        prm.leave_subsection();
-        prm.enter_subsection("Time stepping");
-        prm.declare_entry("Schemes", "SAR", Patterns::Anything(),
-                          "One or more of IE, SAP, SAR, BDF2, BAP, BAR, each run from the same start; "
-                          "the first one's frames go to VTU.");
-        prm.declare_entry("Time step", "0.0166666666667", Patterns::Double(0), "[s]");
-        prm.declare_entry("End time", "2", Patterns::Double(0), "[s]");
-        prm.declare_entry("Frames", "40", Patterns::Integer(0), "VTU frames of the first scheme [-].");
-        prm.declare_entry("Newton tolerance", "1e-8", Patterns::Double(0),
-                          "Relative gradient norm of the implicit steps [-].");
-        prm.declare_entry("Newton velocity tolerance", "1e-4", Patterns::Double(0),
-                          "Also converged when a full Newton step moves no vertex faster than this "
-                          "(|dx|_inf / time step); 0: the gradient criterion only [m/s].");
-        prm.declare_entry("Area barrier", "0.1", Patterns::Double(0, 0.99),
-                          "Triangles crushed below this fraction of their rest area meet a log "
-                          "barrier (St.Venant-Kirchhoff alone lets a soft sheet collapse triangles, "
-                          "which stalls Newton); 0: none [-].");
-        prm.declare_entry("Newton Hessian", "projected", Patterns::Selection("projected|exact"),
-                          "projected: every element's Hessian block is projected to positive "
-                          "semi-definite (robust when the sheet wrinkles under compression); exact: "
-                          "the true Hessian, shifted by a multiple of the identity where indefinite.");
-        prm.declare_entry("Projection tolerance", "1e-9", Patterns::Double(0),
-                          "Residuals and gap of the interior-point projection (relative) [-].");
-        prm.declare_entry("Projection iterations", "100", Patterns::Integer(1),
-                          "Interior-point iterations per cone problem before the projection (and its "
-                          "scheme) is given up [-].");
-        prm.leave_subsection();
-        prm.enter_subsection("Collisions");
-        prm.declare_entry("Sphere stiffness", "0", Patterns::Double(0),
-                          "Penalty k/2 depth^2 per vertex against the sphere; 0: no sphere [N/m].");
-        prm.declare_entry("Sphere center", "0.25, -0.2, 0.25", Patterns::Anything(), "[m]");
-        prm.declare_entry("Sphere radius", "0.12", Patterns::Double(0), "[m]");
-        prm.declare_entry("Ground stiffness", "0", Patterns::Double(0), "0: no ground [N/m].");
-        prm.declare_entry("Ground height", "-1", Patterns::Double(), "[m]");
-        prm.leave_subsection();
-      }
+      explicit BiphasicSheetScene(ParameterHandler &prm) { config.parse_parameters(prm); }
 
-      explicit BiphasicSheetScene(ParameterHandler &prm)
-      {
-        prm.enter_subsection("Sheet");
-        size       = prm.get_double("Size");
-        resolution = unsigned(prm.get_integer("Resolution"));
-        for (const auto &point : Utilities::split_string_list(prm.get("Pinned points"), ';'))
-          {
-            const auto p = parse_number_list(point, "Pinned points");
-            AssertThrow(p.size() == 3, ExcMessage("Pinned points: each point needs three coordinates."));
-            pinned_points.push_back({{p[0], p[1], p[2]}});
-          }
-        for (const auto &offset : Utilities::split_string_list(prm.get("Pin offsets"), ';'))
-          {
-            const auto p = parse_number_list(offset, "Pin offsets");
-            AssertThrow(p.size() == 3, ExcMessage("Pin offsets: each offset needs three coordinates."));
-            pin_offsets.push_back({{p[0], p[1], p[2]}});
-          }
-        AssertThrow(pin_offsets.empty() || pin_offsets.size() == pinned_points.size(),
-                    ExcMessage("Pin offsets: give one offset per pinned point, or none."));
-        material.thickness      = prm.get_double("Thickness");
-        material.density        = prm.get_double("Density");
-        material.youngs_modulus = prm.get_double("Young's modulus");
-        material.poissons_ratio = prm.get_double("Poisson's ratio");
-        AssertThrow(size > 0 && material.thickness > 0 && material.density > 0 && material.youngs_modulus > 0,
-                    ExcMessage("Sheet: size, thickness, density and Young's modulus must be positive."));
-        prm.leave_subsection();
-        prm.enter_subsection("Strain limits");
-        limit_expression = prm.get("Limit");
-        directions       = unsigned(prm.get_integer("Directions"));
-        curve_tolerance  = prm.get_double("Curve tolerance");
-        for (const auto &sample : Utilities::split_string_list(prm.get("Limit samples"), ';'))
-          {
-            const auto parts = Utilities::split_string_list(sample, ':');
-            AssertThrow(parts.size() == 2 && !parts[0].empty() && !parts[1].empty(),
-                        ExcMessage("Limit samples: <" + sample + "> is not of the form angle:limit."));
-            const double angle = parse_number_list(parts[0], "Limit samples")[0];
-            const double value = parse_number_list(parts[1], "Limit samples")[0];
-            // The direction's angle in [0, 180) degrees, in radians.
-            limit_samples.emplace_back(std::fmod(std::fmod(angle, 180.0) + 180.0, 180.0) * numbers::PI / 180,
-                                       value);
-          }
-        std::sort(limit_samples.begin(), limit_samples.end());
-        prm.leave_subsection();
-        prm.enter_subsection("Time stepping");
-        for (const auto &name : Utilities::split_string_list(prm.get("Schemes"), ','))
-          schemes.push_back(parse_cloth_scheme(name));
-        AssertThrow(!schemes.empty(), ExcMessage("Time stepping: name at least one scheme."));
-        settings.time_step                  = prm.get_double("Time step");
-        end_time                            = prm.get_double("End time");
-        frames                              = unsigned(prm.get_integer("Frames"));
-        settings.newton_tolerance           = prm.get_double("Newton tolerance");
-        settings.project_element_hessians   = prm.get("Newton Hessian") == "projected";
-        settings.newton_velocity_tolerance  = prm.get_double("Newton velocity tolerance");
-        settings.area_barrier               = prm.get_double("Area barrier");
-        cone_settings.feasibility_tolerance = cone_settings.gap_tolerance =
-            prm.get_double("Projection tolerance");
-        cone_settings.max_iterations = unsigned(prm.get_integer("Projection iterations"));
-        AssertThrow(settings.time_step > 0 && end_time >= settings.time_step,
-                    ExcMessage("Time stepping: needs a positive time step no longer than the end time."));
-        prm.leave_subsection();
-        prm.enter_subsection("Collisions");
-        settings.sphere_stiffness = prm.get_double("Sphere stiffness");
-        settings.sphere           = settings.sphere_stiffness > 0;
-        const auto c              = parse_number_list(prm.get("Sphere center"), "Sphere center");
-        AssertThrow(c.size() == 3, ExcMessage("Sphere center needs three coordinates."));
-        settings.sphere_center    = {{c[0], c[1], c[2]}};
-        settings.sphere_radius    = prm.get_double("Sphere radius");
-        settings.ground_stiffness = prm.get_double("Ground stiffness");
-        settings.ground           = settings.ground_stiffness > 0;
-        settings.ground_height    = prm.get_double("Ground height");
-        prm.leave_subsection();
-        // The limit formula, checked once here (b >= 1 and finite at every sampled direction).
-        // deal.II's parser parses on first use and reports to std::cerr: silenced, one clear error.
-        limit_function = std::make_shared<FunctionParser<1>>(1);
-        std::ostringstream    silenced;
-        std::streambuf *const saved = std::cerr.rdbuf(silenced.rdbuf());
-        bool                  ok    = true;
-        try
-          {
-            limit_function->initialize("alpha", limit_expression, {{"pi", numbers::PI}});
-            limit_function->value(Point<1>(0.0));
-          }
-        catch (...)
-          {
-            ok = false;
-          }
-        std::cerr.rdbuf(saved);
-        AssertThrow(ok, ExcMessage("Strain limits: cannot parse the limit formula <" + limit_expression +
-                                   "> (a function of alpha)."));
-      }
+      void validate() const override { config.check(); }
 
       void run(RunContext &context) override
       {
-        const RawSimplexMesh<3>         mesh   = make_sheet_mesh(size, resolution);
-        const std::vector<unsigned int> pinned = pinned_vertices(mesh);
-        const auto                      limit  = [this](double alpha) { return limit_at(alpha); };
+        const auto                     &c               = config;
+        const auto                     &directions      = c.directions;
+        const auto                     &frames          = c.frames;
+        const auto                     &curve_tolerance = c.curve_tolerance;
+        const auto                     &end_time        = c.end_time;
+        const auto                     &pin_offsets     = c.pin_offsets;
+        const auto                     &material        = c.material;
+        const auto                     &schemes         = c.schemes;
+        const auto                     &settings        = c.settings;
+        const auto                     &cone_settings   = c.cone_settings;
+        const RawSimplexMesh<3>         mesh            = make_sheet_mesh(c.size, c.resolution);
+        const std::vector<unsigned int> pinned          = c.pinned_vertices(mesh);
+        const auto                      limit           = [&c](double alpha) { return c.limit_at(alpha); };
         const auto                      limits =
             make_strain_limits(mesh, {{1, 0, 0}}, {{0, 0, 1}}, directions, limit, curve_tolerance);
         context.pcout << "biphasic sheet: " << mesh.vertices.size() << " vertices, " << mesh.cells.size()
@@ -476,81 +258,6 @@ namespace nlmech
       }
 
     private:
-      /// b(alpha): the formula, or the samples interpolated linearly and periodically over pi.
-      double limit_at(const double alpha) const
-      {
-        if (limit_samples.empty())
-          return limit_function->value(Point<1>(alpha));
-        const double a = std::fmod(std::fmod(alpha, numbers::PI) + numbers::PI, numbers::PI);
-        const auto   n = limit_samples.size();
-        for (std::size_t k = 0; k < n; ++k)
-          {
-            const auto  &lo = limit_samples[k];
-            const auto  &hi = limit_samples[(k + 1) % n];
-            const double a0 = lo.first, a1 = k + 1 < n ? hi.first : hi.first + numbers::PI;
-            const double aa = a < a0 ? a + numbers::PI : a;
-            if (n == 1 || (aa >= a0 && aa <= a1))
-              return n == 1 ? lo.second : lo.second + (hi.second - lo.second) * (aa - a0) / (a1 - a0);
-          }
-        return limit_samples.front().second;
-      }
-
-      /// The sheet's vertices nearest to the pinned points (each within half a cell of one).
-      std::vector<unsigned int> pinned_vertices(const RawSimplexMesh<3> &mesh) const
-      {
-        std::vector<unsigned int> pinned;
-        const double              cell = size / resolution;
-        for (const auto &p : pinned_points)
-          {
-            unsigned int best = 0;
-            double       d    = 1e300;
-            for (unsigned int v = 0; v < mesh.vertices.size(); ++v)
-              {
-                const double dv = mesh.vertices[v].distance(Point<3>(p[0], p[1], p[2]));
-                if (dv < d)
-                  d = dv, best = v;
-              }
-            AssertThrow(d <= 0.5 * cell,
-                        ExcMessage("Pinned points: (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) +
-                                   ", " + std::to_string(p[2]) + ") is not on the sheet."));
-            pinned.push_back(best);
-          }
-        return pinned;
-      }
-
-      /// Refused before any step: a limit curve below 1 or not finite anywhere (a fine grid, not only
-      /// the sampled directions), and pins moved farther apart than any state within the limits
-      /// allows (no triangle stretches beyond the largest limit, plus the curve tolerance, or
-      /// b_max / cos(pi / 2n) when only the n sampled directions are held).
-      void validate() const override
-      {
-        const auto limit = [this](double alpha) { return limit_at(alpha); };
-        check_limit_curve(limit);
-        const RawSimplexMesh<3>         mesh   = make_sheet_mesh(size, resolution);
-        const std::vector<unsigned int> pinned = pinned_vertices(mesh);
-        double                          b_max  = 1;
-        for (int k = 0; k < 3600; ++k)
-          b_max = std::max(b_max, limit(-numbers::PI / 2 + k * numbers::PI / 3600));
-        const double allowed = curve_tolerance > 0 ? b_max + curve_tolerance * (b_max - 1)
-                                                   : b_max / std::cos(numbers::PI / (2 * directions));
-        for (std::size_t a = 0; a < pinned.size() && !pin_offsets.empty(); ++a)
-          for (std::size_t b = a + 1; b < pinned.size(); ++b)
-            {
-              const Point<3> pa = mesh.vertices[pinned[a]], pb = mesh.vertices[pinned[b]];
-              const double   rest = pa.distance(pb);
-              Point<3>       qa = pa, qb = pb;
-              for (unsigned int d = 0; d < 3; ++d)
-                qa[d] += pin_offsets[a][d], qb[d] += pin_offsets[b][d];
-              const double       ratio = qa.distance(qb) / rest;
-              std::ostringstream what;
-              what << "Strain limits cannot hold: the pins are farther apart than the limits allow (pins "
-                   << a + 1 << " and " << b + 1 << " are moved to " << ratio
-                   << " times their rest distance; no state within the limits stretches the sheet beyond "
-                   << allowed << ").";
-              AssertThrow(rest == 0 || ratio <= allowed, ExcMessage(what.str()));
-            }
-      }
-
       void write_results(RunContext &context, const std::string &csv, const std::vector<double> &times,
                          const std::vector<std::vector<std::pair<std::string, Eigen::VectorXd>>> &fields,
                          const RawSimplexMesh<3>                                                 &mesh) const
@@ -565,18 +272,7 @@ namespace nlmech
                                  context.output.file("stretch_reached.csv")});
       }
 
-      double                                 size       = 0.5;
-      unsigned int                           resolution = 20, directions = 4, frames = 40;
-      std::vector<std::array<double, 3>>     pinned_points, pin_offsets;
-      ShellMaterial                          material;
-      std::string                            limit_expression;
-      std::shared_ptr<FunctionParser<1>>     limit_function;
-      std::vector<std::pair<double, double>> limit_samples; // (angle in [0, pi), limit)
-      std::vector<ClothScheme>               schemes;
-      ClothSettings                          settings;
-      ConicSettings                          cone_settings;
-      double                                 end_time        = 2;
-      double                                 curve_tolerance = 0.1;
+      BiphasicSheetSettings config;
     };
   } // namespace
 
@@ -586,7 +282,7 @@ namespace nlmech
                             "Cloth and chainmail sheets with direction-dependent stretch limits enforced by "
                             "second-order cone projection (own interior-point solver) inside implicit time "
                             "stepping: IE, SAP, SAR, BDF2, BAP, BAR; drapes, swinging, sphere contact.",
-                            &BiphasicSheetScene::declare_parameters,
+                            &BiphasicSheetSettings::declare_parameters,
                             [](ParameterHandler &prm) -> std::unique_ptr<Scene> {
                               return std::make_unique<BiphasicSheetScene>(prm);
                             }}))

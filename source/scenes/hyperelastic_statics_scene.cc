@@ -59,19 +59,8 @@ namespace nlmech
             "(implicit Euler dynamic relaxation "
             "with "
             "kinetic damping).");
-        prm.declare_entry("ANM order", "20", Patterns::Integer(2, 31),
-                          "Truncation order n of the series [-].");
-        prm.declare_entry("Series tolerance", "1e-6", Patterns::Double(0),
-                          "r of the step-length rule a_r = (r |x_1| / |x_n|)^(1/(n-1)) [-].");
-        prm.declare_entry("Residual tolerance", "1e-9", Patterns::Double(0),
-                          "Final equilibrium: |residual| <= tol |load| on the free unknowns [-].");
-        prm.declare_entry("Path tolerance", "1e-6", Patterns::Double(0),
-                          "ANM corrections between steps only above this relative residual [-].");
+        AnmSettings::declare_parameters(prm);
         prm.declare_entry("Newton load steps", "10", Patterns::Integer(1), "Load increments for Newton [-].");
-        prm.declare_entry(
-            "Pade approximants", "false", Patterns::Bool(),
-            "Follow the branch with Pade approximants (common denominator) where they reach further "
-            "than the series; anm_steps.csv gives both radii per step.");
         prm.declare_entry(
             "Load scales", "", Patterns::Anything(),
             "After the ANM reaches lambda = 1: other load factors to explore, comma-separated [-]. "
@@ -107,16 +96,10 @@ namespace nlmech
         prm.enter_subsection("Solver");
         for (const auto &m : Utilities::split_string_list(prm.get("Methods"), ','))
           methods.insert(m);
-        anm.order              = prm.get_integer("ANM order");
-        anm.series_tolerance   = prm.get_double("Series tolerance");
-        anm.residual_tolerance = prm.get_double("Residual tolerance");
-        anm.path_tolerance     = prm.get_double("Path tolerance");
-        newton_steps           = prm.get_integer("Newton load steps");
-        anm.pade               = prm.get_bool("Pade approximants");
-        load_scales            = parse_number_list(prm.get("Load scales"), "Load scales");
+        anm.parse_parameters(prm);
+        newton_steps = prm.get_integer("Newton load steps");
+        load_scales  = parse_number_list(prm.get("Load scales"), "Load scales");
         prm.leave_subsection();
-        AssertThrow(anm.residual_tolerance > 0 && anm.series_tolerance > 0 && anm.series_tolerance < 1,
-                    ExcMessage("The ANM tolerances must be positive (and the series tolerance below 1)."));
       }
 
       void validate() const override { mesh.check_exists(); }

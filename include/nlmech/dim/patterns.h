@@ -9,8 +9,9 @@
 //                      every crossing with a neighbour is at a crest or a trough, so each element
 //                      passes over and under each of its six neighbours.
 //   torus knot         (p, q) torus-knot tubes on a square lattice, each linking four neighbours;
-//                      the default (1, 4) curve winds four times around the tube (fourfold symmetric,
-//                      unknotted, as p = 1 torus knots are).
+//                      the default (3, 4) knot turns three times about the symmetry axis and four
+//                      times around the tube (fourfold symmetric; a true knot, p and q coprime and
+//                      both at least 2).
 //   scale mail         the threefold base with a hexagonal plate above it on one side.
 // Linked pairs are found and checked by their linking number, so a pattern whose elements do not
 // interlock as designed is rejected.

@@ -7,7 +7,9 @@
 // (paper eqs. 19-20), or before any element would invert (first root of det F(a)); a few Newton
 // corrections follow; lambda = target is landed on exactly by root finding on lambda(a).
 
+#include <deal.II/base/parameter_handler.h>
 #include <nlmech/models/equilibrium_system.h>
+
 #include <nlmech/models/model.h>
 
 #include <memory>
@@ -26,6 +28,11 @@ namespace nlmech
     unsigned int max_steps          = 200;
     double       min_step           = 1e-12; // a step shorter than this counts as a collapse
     bool         pade               = false; // Pade approximants where they reach further than the series
+
+    /// ANM order, Series tolerance, Residual tolerance, Path tolerance, Pade approximants, in the
+    /// current subsection.
+    static void declare_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(dealii::ParameterHandler &prm);
   };
 
   struct AnmStepRecord

@@ -2,12 +2,14 @@
 // What is done with a HarmonicBalance: periodic states at one frequency (SUNDIALS KINSOL with a
 // sparse direct solve of the Jacobian 2.3.13), frequency-response curves by pseudo-arclength
 // continuation (2.3.19) with adaptive steps through folds, resonance peaks (local maxima of the
-// amplitude 2.3.14 along the curve, refined on the curve), stability by Floquet multipliers, and
-// the time-domain reference: Newmark (beta = 1/4, gamma = 1/2) to the periodic steady state with
-// the period-difference criterion (2.5.1). NLMECH_HBM_DEBUG=1 in the environment prints the
+// amplitude 2.3.14 along the curve, refined on the curve), stability by Hill's method (the Floquet
+// exponents from the HBM Jacobian, any size; the monodromy matrix's Floquet multipliers as the
+// time-domain cross-check for small models), and
+// the time-domain reference (solvers/time/newmark.h). NLMECH_HBM_DEBUG=1 in the environment prints the
 // continuation corrector's and the excitation ramp's residuals to stderr.
 
 #include <nlmech/solvers/hbm/harmonic_balance.h>
+#include <nlmech/solvers/time/newmark.h>
 
 #include <complex>
 #include <functional>
@@ -164,26 +166,4 @@ namespace nlmech
                                    const std::vector<HarmonicDrive> &drives,
                                    const Eigen::VectorXd &static_state, double omega, double threshold = 1e-3,
                                    unsigned int first = 3, unsigned int last = 15, unsigned int step = 2);
-
-  struct NewmarkSettings
-  {
-    unsigned int steps_per_period = 1024;
-    double       period_tolerance = 1e-7; // e_p of (2.5.1), relative to the trajectory's size
-    unsigned int max_periods      = 10000;
-    double       newton_tolerance = 1e-12; // relative
-  };
-
-  struct NewmarkResult
-  {
-    bool            converged = false;
-    unsigned int    periods = 0, newton_iterations = 0;
-    double          period_difference = 0; // relative e_p of the last period
-    double          seconds           = 0;
-    Eigen::MatrixXd last_period; // full positions at t_i = i T / steps, i = 0..steps-1
-  };
-
-  /// Integrates the same equations of motion in time from (x0, v0) (full length) until two
-  /// successive periods differ by less than the tolerance.
-  NewmarkResult newmark_steady_state(const HarmonicBalance &hb, double omega, const Eigen::VectorXd &x0,
-                                     const Eigen::VectorXd &v0, const NewmarkSettings &settings = {});
 } // namespace nlmech
