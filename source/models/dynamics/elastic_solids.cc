@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/models/dynamics/elastic_solids.h>
+#include <nlmech/models/elastic_constants.h>
 #include <nlmech/models/solid/hyperelastic_tet_energy.h>
 
 #include <algorithm>
@@ -110,10 +111,9 @@ namespace nlmech
         AssertThrow(
             det > 1e-14 * (a * a + cc * cc),
             dealii::ExcMessage("The plane mesh has a degenerate triangle " + std::to_string(c + 1) + "."));
-        const SolidMaterial &m  = materials[cell_material[c]];
-        const double         mu = m.youngs_modulus / (2 * (1 + m.poissons_ratio));
-        const double         lambda =
-            m.youngs_modulus * m.poissons_ratio / ((1 + m.poissons_ratio) * (1 - 2 * m.poissons_ratio));
+        const SolidMaterial &m      = materials[cell_material[c]];
+        const double         mu     = shear_modulus(m.youngs_modulus, m.poissons_ratio);
+        const double         lambda = lame_lambda(m.youngs_modulus, m.poissons_ratio);
         elements.triangles.push_back(tri);
         elements.dm_inverse.push_back({{d / det, -b / det, -cc / det, a / det}});
         elements.measure.push_back(0.5 * det * m.thickness);

@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/models/dynamics/rod_network.h>
+#include <nlmech/models/elastic_constants.h>
 
 #include <algorithm>
 #include <map>
@@ -44,7 +45,7 @@ namespace nlmech
     const std::size_t nv = d.vertices.size();
     const double      pi = 3.14159265358979323846, r = mat.radius;
     const double      area = pi * r * r, inertia = pi * r * r * r * r / 4, polar = 2 * inertia;
-    const double      shear = mat.youngs_modulus / (2 * (1 + mat.poissons_ratio));
+    const double      shear = shear_modulus(mat.youngs_modulus, mat.poissons_ratio);
     RodNetwork        net;
     // Edges, and the rod ends at each vertex (edge, whether the vertex is the edge's first one).
     std::map<unsigned int, std::vector<std::pair<unsigned int, bool>>> ends;

@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/models/dynamics/thin_shell.h>
+#include <nlmech/models/elastic_constants.h>
 
 #include <map>
 
@@ -21,7 +22,7 @@ namespace nlmech
         shell.rest_positions[3 * v + i] = mesh.vertices[v][i];
 
     const double     E = material.youngs_modulus, nu = material.poissons_ratio, t = material.thickness;
-    const double     mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    const double     mu = shear_modulus(E, nu), lambda = lame_lambda(E, nu);
     MembraneElements membrane;
     membrane.mu = mu, membrane.lambda = 2 * lambda * mu / (lambda + 2 * mu), membrane.thickness = t;
     Eigen::VectorXd &mass = shell.model.lumped_mass();

@@ -2,6 +2,8 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/base/nearest_point.h>
+
 #include <limits>
 
 namespace nlmech
@@ -49,11 +51,7 @@ namespace nlmech
       }
     for (const auto &p : loads.point_loads)
       {
-        std::size_t nearest = 0;
-        double      best    = std::numeric_limits<double>::max();
-        for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-          if (mesh.vertices[v].distance(p.first) < best)
-            best = mesh.vertices[v].distance(p.first), nearest = v;
+        const std::size_t nearest = nearest_point(mesh.vertices, p.first);
         for (int i = 0; i < 3; ++i)
           problem.load[3 * nearest + i] += p.second[i];
       }

@@ -1,3 +1,4 @@
+#include <nlmech/models/elastic_constants.h>
 #include <nlmech/models/solid/linear_elasticity.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -23,12 +24,12 @@ namespace nlmech
 
   double IsotropicMaterial::lame_lambda() const
   {
-    return youngs_modulus * poissons_ratio / ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
+    return nlmech::lame_lambda(youngs_modulus, poissons_ratio);
   }
 
   double IsotropicMaterial::shear_modulus() const
   {
-    return youngs_modulus / (2 * (1 + poissons_ratio));
+    return nlmech::shear_modulus(youngs_modulus, poissons_ratio);
   }
 
   void IsotropicMaterial::check() const

@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/base/nearest_point.h>
 #include <nlmech/base/parse.h>
 #include <nlmech/models/cloth/strain_limits.h>
 #include <nlmech/scenes/sheet/sheet_settings.h>
@@ -199,14 +200,9 @@ namespace nlmech
     const double              cell = size / resolution;
     for (const auto &p : pinned_points)
       {
-        unsigned int best = 0;
-        double       d    = 1e300;
-        for (unsigned int v = 0; v < mesh.vertices.size(); ++v)
-          {
-            const double dv = mesh.vertices[v].distance(Point<3>(p[0], p[1], p[2]));
-            if (dv < d)
-              d = dv, best = v;
-          }
+        const Point<3>     q(p[0], p[1], p[2]);
+        const unsigned int best = unsigned(nearest_point(mesh.vertices, q));
+        const double       d    = mesh.vertices[best].distance(q);
         AssertThrow(d <= 0.5 * cell,
                     ExcMessage("Pinned points: (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) +
                                ", " + std::to_string(p[2]) + ") is not on the sheet."));

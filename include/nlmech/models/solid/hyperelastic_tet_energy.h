@@ -8,6 +8,7 @@
 
 #include <nlmech/base/truncated_series.h>
 #include <nlmech/mesh/gmsh_mesh.h>
+#include <nlmech/models/elastic_constants.h>
 #include <nlmech/models/energy_term.h>
 
 #include <array>
@@ -30,12 +31,9 @@ namespace nlmech
     double          poissons_ratio = 0; // -
     double          density        = 0; // kg/m^3
 
-    double shear_modulus() const { return youngs_modulus / (2 * (1 + poissons_ratio)); }
-    double bulk_modulus() const { return youngs_modulus / (3 * (1 - 2 * poissons_ratio)); }
-    double lame_lambda() const
-    {
-      return youngs_modulus * poissons_ratio / ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
-    }
+    double shear_modulus() const { return nlmech::shear_modulus(youngs_modulus, poissons_ratio); }
+    double bulk_modulus() const { return nlmech::bulk_modulus(youngs_modulus, poissons_ratio); }
+    double lame_lambda() const { return nlmech::lame_lambda(youngs_modulus, poissons_ratio); }
     /// Throws a clear error for E <= 0 or nu outside (-1, 0.5).
     void check() const;
   };
