@@ -188,4 +188,6 @@ namespace nlmech
       }
     return layer;
   }
+
+  template class ElementEnergyTerm<PlaneTriangleElements>;
 } // namespace nlmech

@@ -106,4 +106,7 @@ namespace nlmech
       }
     return worst;
   }
+
+  template class ElementEnergyTerm<JointAngleElements>;
+  template class ElementEnergyTerm<AttachedSpringElements>;
 } // namespace nlmech

@@ -233,4 +233,8 @@ namespace nlmech
       }
     return d;
   }
+
+  template class ElementEnergyTerm<RodStretchElements>;
+  template class ElementEnergyTerm<RodBendTwistElements>;
+  template class ElementEnergyTerm<RodJunctionElements>;
 } // namespace nlmech

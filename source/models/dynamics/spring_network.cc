@@ -33,4 +33,7 @@ namespace nlmech
     model.fix(0, -span), model.fix(1, 0.0), model.fix(4, span), model.fix(5, 0.0);
     return model;
   }
+
+  template class ElementEnergyTerm<SpringElements<1>>;
+  template class ElementEnergyTerm<SpringElements<2>>;
 } // namespace nlmech

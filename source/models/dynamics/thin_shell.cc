@@ -83,4 +83,7 @@ namespace nlmech
     shell.model.add_term(shell.bending);
     return shell;
   }
+
+  template class ElementEnergyTerm<MembraneElements>;
+  template class ElementEnergyTerm<HingeElements>;
 } // namespace nlmech

@@ -94,4 +94,7 @@ namespace nlmech
   /// equal slabs between the mesh's extremes.
   std::vector<unsigned int> cell_layers(const RawSimplexMesh<3> &mesh, unsigned int axis,
                                         unsigned int n_layers);
+
+  // Instantiated once, in elastic_solids.cc (not again in every file that uses the terms).
+  extern template class ElementEnergyTerm<PlaneTriangleElements>;
 } // namespace nlmech

@@ -124,4 +124,8 @@ namespace nlmech
   /// (the constraint violations of thesis Fig. 2.14).
   std::array<double, 2> mechanism_constraint_violation(const MechanismDescription &description,
                                                        const Eigen::VectorXd      &x);
+
+  // Instantiated once, in mechanism.cc (not again in every file that uses the terms).
+  extern template class ElementEnergyTerm<JointAngleElements>;
+  extern template class ElementEnergyTerm<AttachedSpringElements>;
 } // namespace nlmech

@@ -284,4 +284,9 @@ namespace nlmech
   /// `segments` equal-length edges; rod ends closer than `tolerance` share a vertex (a junction).
   RodNetworkDescription rods_from_polylines(const std::vector<std::vector<std::array<double, 3>>> &polylines,
                                             unsigned int segments, double tolerance);
+
+  // Instantiated once, in rod_network.cc (not again in every file that uses the terms).
+  extern template class ElementEnergyTerm<RodStretchElements>;
+  extern template class ElementEnergyTerm<RodBendTwistElements>;
+  extern template class ElementEnergyTerm<RodJunctionElements>;
 } // namespace nlmech

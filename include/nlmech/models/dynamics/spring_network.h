@@ -74,4 +74,8 @@ namespace nlmech
   /// of rest length L0 (2D; the mass's unknowns are 2 and 3).
   Model make_two_spring_mass_model(double mass, double stiffness, double cubic, double span,
                                    double rest_length);
+
+  // Instantiated once, in spring_network.cc (not again in every file that uses the terms).
+  extern template class ElementEnergyTerm<SpringElements<1>>;
+  extern template class ElementEnergyTerm<SpringElements<2>>;
 } // namespace nlmech

@@ -126,4 +126,8 @@ namespace nlmech
   /// masses rho t A / 3 per vertex. Throws for degenerate triangles or edges shared by more than two
   /// triangles.
   ShellModel make_shell_model(const RawSimplexMesh<3> &mesh, const ShellMaterial &material);
+
+  // Instantiated once, in thin_shell.cc (not again in every file that uses the terms).
+  extern template class ElementEnergyTerm<MembraneElements>;
+  extern template class ElementEnergyTerm<HingeElements>;
 } // namespace nlmech
