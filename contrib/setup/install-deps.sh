@@ -9,6 +9,8 @@ packages=(
   libeigen3-dev libfftw3-dev libsuitesparse-dev
   libcgal-dev           # CGAL: strain-space boundary meshes (convex hull, AABB tree, inside tests)
   nlohmann-json3-dev    # nlohmann::json: summary.json
+  libarpack2-dev        # ARPACK: Hill's eigenproblem (implicitly restarted Arnoldi)
+  libceres-dev          # Ceres: the Levenberg-Marquardt baseline of the inverse-design comparison
   libopenblas0-serial   # optimised BLAS/LAPACK behind UMFPACK/CHOLMOD (serial: one thread per MPI rank)
   openmpi-bin
   coinor-libipopt-dev   # Ipopt: the general nonlinear-programming baseline of the strain-limiting benchmark

@@ -46,12 +46,14 @@ namespace nlmech::dim
           change = std::max(change, (history[k] - history.back()).lpNorm<Eigen::Infinity>());
         return change <= settings.parameter_tolerance;
       };
-      newton.grow_shift_on_short_steps = true; // sliding contacts otherwise crawl at collision-bounded steps
-      newton.shift_metric              = assembly.motion_metric(q);
-      TestOutcome outcome;
+      DiagonalShift::Settings shift;
+      shift.grow_on_short_steps = true; // sliding contacts otherwise crawl at collision-bounded steps
+      shift.metric              = assembly.motion_metric(q);
+      NewtonSolver solver(newton, std::make_shared<DiagonalShift>(shift));
+      TestOutcome  outcome;
       try
         {
-          const auto result  = minimize_with_newton(model, q, newton);
+          const auto result  = solver.minimize(model, q);
           outcome.iterations = result.iterations;
         }
       catch (const std::exception &e)

@@ -513,6 +513,31 @@ namespace nlmech::dim
                 dealii::ExcMessage("Contact: the minimum separation must not be negative."));
   }
 
+  std::shared_ptr<const std::vector<ContactPair>> ContactBarrier::pairs_at(const Eigen::VectorXd &q) const
+  {
+    {
+      const std::lock_guard<std::mutex> lock(cache_mutex);
+      if (cached_pairs && cached_state.size() == q.size() &&
+          std::equal(q.data(), q.data() + q.size(), cached_state.data()))
+        return cached_pairs;
+    }
+    auto pairs = std::make_shared<std::vector<ContactPair>>(
+        assembly->contact_pairs(q, contact.dhat + contact.separation));
+    for (ContactPair &p : *pairs)
+      p.radius_sum += contact.separation;
+    const std::lock_guard<std::mutex> lock(cache_mutex);
+    cached_state = q;
+    cached_pairs = pairs;
+    ++searches;
+    return pairs;
+  }
+
+  std::size_t ContactBarrier::n_collision_searches() const
+  {
+    const std::lock_guard<std::mutex> lock(cache_mutex);
+    return searches;
+  }
+
   std::array<long, 15> ContactBarrier::pair_dofs(const ContactPair &pair) const
   {
     std::array<long, 15> dofs;
@@ -540,10 +565,8 @@ namespace nlmech::dim
   double ContactBarrier::value(const Eigen::VectorXd &q) const
   {
     double total = 0;
-    for (const auto &pair : assembly->contact_pairs(q, contact.dhat + contact.separation))
+    for (const ContactPair &p : *pairs_at(q))
       {
-        ContactPair p = pair;
-        p.radius_sum += contact.separation;
         const auto             dofs = pair_dofs(p);
         std::array<double, 15> v{};
         for (unsigned k = 0; k < 15; ++k)
@@ -555,10 +578,8 @@ namespace nlmech::dim
 
   void ContactBarrier::add_gradient(const Eigen::VectorXd &q, Eigen::VectorXd &g) const
   {
-    for (const auto &pair : assembly->contact_pairs(q, contact.dhat + contact.separation))
+    for (const ContactPair &p : *pairs_at(q))
       {
-        ContactPair p = pair;
-        p.radius_sum += contact.separation;
         const auto               dofs = pair_dofs(p);
         std::array<Gradient, 15> v;
         for (unsigned k = 0; k < 15; ++k)
@@ -572,10 +593,8 @@ namespace nlmech::dim
 
   void ContactBarrier::add_hessian(const Eigen::VectorXd &q, Triplets &h) const
   {
-    for (const auto &pair : assembly->contact_pairs(q, contact.dhat + contact.separation))
+    for (const ContactPair &p : *pairs_at(q))
       {
-        ContactPair p = pair;
-        p.radius_sum += contact.separation;
         const auto              dofs = pair_dofs(p);
         std::array<Hessian, 15> v;
         for (unsigned k = 0; k < 15; ++k)

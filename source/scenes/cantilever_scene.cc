@@ -3,6 +3,7 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/base/gravity_parameter.h>
 #include <nlmech/base/mesh_study.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
@@ -63,8 +64,7 @@ namespace nlmech
             "end-load: a downward (-z) force on the x = L face; gravity: the beam's own weight.");
         prm.declare_entry("End load", "1000", Patterns::Double(),
                           "Total downward force on the free end [N].");
-        prm.declare_entry("Gravity", "9.81", Patterns::Double(),
-                          "Gravitational acceleration, along -z [m/s^2].");
+        GravityParameter::declare_parameters(prm, 1, "along -z");
         prm.leave_subsection();
         MeshParameters::declare_parameters(prm, NLMECH_SOURCE_DIR "/meshes/cantilever.geo", 0.025);
         MeshStudyParameters::declare_parameters(prm, "");
@@ -83,7 +83,7 @@ namespace nlmech
         prm.enter_subsection("Load");
         gravity_case = prm.get("Load case") == "gravity";
         end_load     = prm.get_double("End load");
-        gravity      = prm.get_double("Gravity");
+        gravity      = GravityParameter::parse_parameters(prm, 1)[0];
         prm.leave_subsection();
         study.mesh.parse_parameters(prm);
         study.study.parse_parameters(prm);

@@ -3,6 +3,7 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/base/gravity_parameter.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/scenes/elastic_statics_study.h>
@@ -32,8 +33,7 @@ namespace nlmech
                           "Comma-separated physical groups (faces) where the displacement is zero.");
         prm.leave_subsection();
         prm.enter_subsection("Loads");
-        prm.declare_entry("Gravity", "0, 0, -9.81", Patterns::Anything(),
-                          "Gravitational acceleration vector, dim components [m/s^2].");
+        GravityParameter::declare_parameters(prm, 0);
         prm.declare_entry("Tractions", "", Patterns::Anything(),
                           "Surface tractions as `group: t_x, t_y[, t_z]; group: ...` [Pa].");
         prm.leave_subsection();
@@ -53,10 +53,7 @@ namespace nlmech
             clamped.push_back(g);
         prm.leave_subsection();
         prm.enter_subsection("Loads");
-        gravity = parse_number_list(prm.get("Gravity"), "Gravity");
-        AssertThrow(gravity.size() == dim,
-                    ExcMessage("The entry <Gravity> needs " + std::to_string(dim) +
-                               " components for Dimension = " + std::to_string(dim) + "."));
+        gravity = GravityParameter::parse_parameters(prm, dim);
         for (const auto &item : Utilities::split_string_list(prm.get("Tractions"), ';'))
           {
             if (item.empty())

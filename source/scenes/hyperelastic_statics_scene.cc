@@ -6,6 +6,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <nlmech/base/atomic_output.h>
+#include <nlmech/base/gravity_parameter.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/mesh/vertex_field_output.h>
@@ -42,8 +43,7 @@ namespace nlmech
                           "Face groups with one fixed component, as `group: x|y|z; ...`.");
         prm.leave_subsection();
         prm.enter_subsection("Loads");
-        prm.declare_entry("Gravity", "0, 0, -9.81", Patterns::Anything(),
-                          "Gravitational acceleration [m/s^2].");
+        GravityParameter::declare_parameters(prm, 3);
         prm.declare_entry("Tractions", "", Patterns::Anything(),
                           "Nominal tractions per rest area, `group: t_x, t_y, t_z; ...` [Pa].");
         prm.declare_entry(
@@ -61,6 +61,7 @@ namespace nlmech
             "kinetic damping).");
         AnmSettings::declare_parameters(prm);
         prm.declare_entry("Newton load steps", "10", Patterns::Integer(1), "Load increments for Newton [-].");
+        NewtonSettings::declare_parameters(prm);
         prm.declare_entry(
             "Load scales", "", Patterns::Anything(),
             "After the ANM reaches lambda = 1: other load factors to explore, comma-separated [-]. "
@@ -89,16 +90,18 @@ namespace nlmech
           }
         prm.leave_subsection();
         prm.enter_subsection("Loads");
-        loads.gravity     = parse_vector<3>(prm.get("Gravity"), "Gravity");
-        loads.tractions   = parse_group_vectors(prm.get("Tractions"), "Tractions");
-        loads.point_loads = parse_point_vectors(prm.get("Point loads"), "Point loads");
+        const std::vector<double> g = GravityParameter::parse_parameters(prm, 3);
+        loads.gravity               = Tensor<1, 3>({g[0], g[1], g[2]});
+        loads.tractions             = parse_group_vectors(prm.get("Tractions"), "Tractions");
+        loads.point_loads           = parse_point_vectors(prm.get("Point loads"), "Point loads");
         prm.leave_subsection();
         prm.enter_subsection("Solver");
         for (const auto &m : Utilities::split_string_list(prm.get("Methods"), ','))
           methods.insert(m);
         anm.parse_parameters(prm);
         newton_steps = prm.get_integer("Newton load steps");
-        load_scales  = parse_number_list(prm.get("Load scales"), "Load scales");
+        newton.parse_parameters(prm);
+        load_scales = parse_number_list(prm.get("Load scales"), "Load scales");
         prm.leave_subsection();
       }
 
@@ -171,7 +174,7 @@ namespace nlmech
             TimerOutput::Scope t(context.timer, "Newton with load stepping");
             x_newton                        = problem.rest_positions;
             const LoadSteppingResult result = solve_with_load_stepping(
-                problem.internal, problem.load, x_newton, newton_steps, anm.residual_tolerance);
+                problem.internal, problem.load, x_newton, newton_steps, anm.residual_tolerance, newton);
             JsonObject s;
             s.add_number("load_steps", newton_steps);
             s.add_number("iterations", result.iterations);
@@ -316,6 +319,7 @@ namespace nlmech
       std::set<std::string>          methods;
       AnmSettings                    anm;
       unsigned int                   newton_steps = 10;
+      NewtonSettings                 newton;
       std::vector<double>            load_scales;
     };
   } // namespace

@@ -8,6 +8,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <nlmech/base/atomic_output.h>
+#include <nlmech/base/gravity_parameter.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/mesh/msh_output.h>
@@ -46,8 +47,7 @@ namespace nlmech
             "Face groups attached to the support: their rest position is their target position.");
         prm.leave_subsection();
         prm.enter_subsection("Loads");
-        prm.declare_entry("Gravity", "0, 0, -9.81", Patterns::Anything(),
-                          "Gravitational acceleration [m/s^2]; the weight is that of the target shape.");
+        GravityParameter::declare_parameters(prm, 3, "the weight is that of the target shape");
         prm.declare_entry(
             "Point loads", "", Patterns::Anything(),
             "Forces at the target vertices nearest to given points, `x, y, z: f_x, f_y, f_z; ...` "
@@ -61,6 +61,7 @@ namespace nlmech
             "stepped), levenberg-marquardt (the paper's baseline, from X = x).");
         AnmSettings::declare_parameters(prm);
         prm.declare_entry("Newton load steps", "5", Patterns::Integer(1), "Load increments for Newton [-].");
+        NewtonSettings::declare_parameters(prm);
         prm.declare_entry("Round trip tolerance", "1e-6", Patterns::Double(0),
                           "The forward solve from the rest shape under the same loads must land within this "
                           "distance of the target, relative to the target's bounding-box diagonal [-]; above "
@@ -90,13 +91,15 @@ namespace nlmech
         AssertThrow(!supports.empty(),
                     ExcMessage("Inverse design needs at least one clamped (support) group."));
         prm.enter_subsection("Loads");
-        loads.gravity     = parse_vector<3>(prm.get("Gravity"), "Gravity");
-        loads.point_loads = parse_point_vectors(prm.get("Point loads"), "Point loads");
+        const std::vector<double> g = GravityParameter::parse_parameters(prm, 3);
+        loads.gravity               = Tensor<1, 3>({g[0], g[1], g[2]});
+        loads.point_loads           = parse_point_vectors(prm.get("Point loads"), "Point loads");
         prm.leave_subsection();
         prm.enter_subsection("Solver");
         methods = Utilities::split_string_list(prm.get("Methods"), ',');
         anm.parse_parameters(prm);
-        newton_steps            = prm.get_integer("Newton load steps");
+        newton_steps = prm.get_integer("Newton load steps");
+        newton.parse_parameters(prm);
         round_trip_tolerance    = prm.get_double("Round trip tolerance");
         const bool multi_target = prm.get_bool("Multi-target design");
         prm.leave_subsection();
@@ -176,7 +179,7 @@ namespace nlmech
             try
               {
                 const LoadSteppingResult result = solve_equilibrium_with_newton(
-                    system, on_target.load, rest_newton, newton_steps, anm.residual_tolerance);
+                    system, on_target.load, rest_newton, newton_steps, anm.residual_tolerance, newton);
                 s.add_bool("completed", true);
                 s.add_number("iterations", result.iterations);
                 s.add_number("factorizations", result.factorizations);
@@ -305,7 +308,8 @@ namespace nlmech
       HyperelasticLoads              loads;
       std::vector<std::string>       methods;
       AnmSettings                    anm;
-      unsigned int                   newton_steps         = 5;
+      unsigned int                   newton_steps = 5;
+      NewtonSettings                 newton;
       double                         round_trip_tolerance = 1e-6;
       std::vector<LoadCase>          load_cases;
     };

@@ -106,10 +106,11 @@ TEST(InPlaneTest, NoAcceptedStateNorAnyStateBetweenThemIntersects)
   NewtonSettings               newton;
   newton.max_iterations = 600;
   newton.step_tolerance = 1e-9;
-  newton.shift_metric   = cell.assembly->motion_metric(cell.q);
   newton.on_accepted    = [&](const Eigen::VectorXd &x) { states.push_back(x); };
-  Eigen::VectorXd q     = cell.q;
-  minimize_with_newton(model, q, newton);
+  DiagonalShift::Settings shift;
+  shift.metric      = cell.assembly->motion_metric(cell.q);
+  Eigen::VectorXd q = cell.q;
+  NewtonSolver(newton, std::make_shared<DiagonalShift>(shift)).minimize(model, q);
   double smallest = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k + 1 < states.size(); ++k)
     for (int j = 0; j <= 20; ++j)

@@ -126,6 +126,40 @@ TEST(ContactBarrier, DerivativesOfTwoRingsMatchFiniteDifferences)
   EXPECT_LT(eh, 1e-5);
 }
 
+TEST(ContactBarrier, OneCollisionSearchPerState)
+{
+  // Value, gradient and Hessian at one state share one search; a new state searches again; the
+  // kept pairs give the same figures as a barrier that searches afresh.
+  auto assembly = std::make_shared<RigidAssembly>(std::vector<ElementShape>{torus_ring(3, 1, 32, 1e-6)},
+                                                  std::vector<unsigned>{0, 0});
+  ContactSettings settings;
+  settings.dhat       = 0.2;
+  settings.separation = 0.05;
+  ContactBarrier barrier(assembly, settings);
+  const auto     q =
+      state({body(0, 0, 0, 0.01, -0.02, 0.03), body(3.82, 0.05, -0.02, M_PI / 2 + 0.02, 0.01, 0.04)});
+  ASSERT_TRUE(barrier.is_valid(q));
+  const std::size_t searches_for_validity = barrier.n_collision_searches(); // is_valid: exact gaps
+  Eigen::VectorXd   g                     = Eigen::VectorXd::Zero(q.size());
+  Triplets          h;
+  const double      e = barrier.value(q);
+  barrier.add_gradient(q, g);
+  barrier.add_hessian(q, h);
+  EXPECT_EQ(barrier.n_collision_searches(), searches_for_validity + 1);
+  ASSERT_GT(e, 0.0);
+  Eigen::VectorXd q2 = q;
+  q2[6] += 1e-3;
+  barrier.value(q2);
+  EXPECT_EQ(barrier.n_collision_searches(), searches_for_validity + 2);
+  ContactBarrier  fresh(assembly, settings);
+  Eigen::VectorXd g_fresh = Eigen::VectorXd::Zero(q.size());
+  fresh.add_gradient(q, g_fresh);
+  barrier.add_gradient(q, g.setZero());
+  EXPECT_EQ(fresh.value(q), e);
+  EXPECT_EQ((g - g_fresh).lpNorm<Eigen::Infinity>(), 0.0);
+  EXPECT_EQ(barrier.n_collision_searches(), searches_for_validity + 3);
+}
+
 TEST(ContactBarrier, DerivativesWithSeparationAndPlatesMatchFiniteDifferences)
 {
   // Scale-mail elements: plate faces against plate points (point-plane pairs) and ring tubes, with

@@ -24,6 +24,7 @@
 #include <array>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <tuple>
 #include <vector>
 
@@ -243,10 +244,20 @@ namespace nlmech::dim
 
     const ContactSettings &settings() const { return contact; }
     void                   set_projection(bool project) { contact.project_hessians = project; }
+    /// Broad- and narrow-phase searches run so far: value, gradient and Hessian at one state share
+    /// one (the pairs of the last state are kept).
+    std::size_t n_collision_searches() const;
 
   private:
     std::shared_ptr<const RigidAssembly> assembly;
     ContactSettings                      contact;
+    /// The pairs within reach at q, separation added to their radii, from the last search if it
+    /// was at the same state (bitwise).
+    std::shared_ptr<const std::vector<ContactPair>>         pairs_at(const Eigen::VectorXd &q) const;
+    mutable std::mutex                                      cache_mutex;
+    mutable Eigen::VectorXd                                 cached_state;
+    mutable std::shared_ptr<const std::vector<ContactPair>> cached_pairs;
+    mutable std::size_t                                     searches = 0;
     template <typename S>
     S                    pair_energy(const ContactPair &pair, const std::array<S, 15> &v) const;
     std::array<long, 15> pair_dofs(const ContactPair &pair) const;

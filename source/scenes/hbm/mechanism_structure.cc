@@ -4,6 +4,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/base/atomic_output.h>
+#include <nlmech/base/gravity_parameter.h>
 #include <nlmech/base/json.h>
 #include <nlmech/base/nearest_point.h>
 #include <nlmech/base/parse.h>
@@ -51,7 +52,7 @@ namespace nlmech
         prm.declare_entry("Link stiffness", "1e5", Patterns::Double(0), "Rigid-link penalty k_l [N/m].");
         prm.declare_entry("Angle stiffness", "100", Patterns::Double(0),
                           "Rigid-joint penalty k_t [N m/rad^2].");
-        prm.declare_entry("Gravity", "9.81", Patterns::Double(), "Along -y [m/s^2].");
+        GravityParameter::declare_parameters(prm, 1, "along -y");
         prm.leave_subsection();
       }
 
@@ -81,7 +82,7 @@ namespace nlmech
         tracked_joint     = unsigned(prm.get_integer("Tracked joint"));
         m.link_stiffness  = prm.get_double("Link stiffness");
         m.angle_stiffness = prm.get_double("Angle stiffness");
-        m.gravity         = prm.get_double("Gravity");
+        m.gravity         = GravityParameter::parse_parameters(prm, 1)[0];
         prm.leave_subsection();
         AssertThrow(!m.joints.empty() && !m.links.empty(),
                     ExcMessage("Mechanism: Joints and Links are needed."));

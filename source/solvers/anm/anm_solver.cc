@@ -428,7 +428,7 @@ namespace nlmech
 
   LoadSteppingResult solve_with_load_stepping(const Model &internal, const Eigen::VectorXd &load,
                                               Eigen::VectorXd &x, const unsigned int n_steps,
-                                              const double relative_tolerance)
+                                              const double relative_tolerance, const NewtonSettings &newton)
   {
     const auto         start = Clock::now();
     LoadSteppingResult result;
@@ -438,7 +438,7 @@ namespace nlmech
       {
         Model stepped = internal;
         stepped.add_term(std::make_shared<ConstantForceTerm>("load", load * (double(i) / n_steps)));
-        NewtonSettings settings;
+        NewtonSettings settings     = newton;
         settings.relative_tolerance = 0;
         settings.absolute_tolerance = relative_tolerance * g_norm;
         const NewtonResult r        = minimize_with_newton(stepped, x, settings);
@@ -454,9 +454,9 @@ namespace nlmech
 {
   LoadSteppingResult solve_equilibrium_with_newton(const EquilibriumSystem &system,
                                                    const Eigen::VectorXd &load, Eigen::VectorXd &q,
-                                                   const unsigned int n_steps,
-                                                   const double       relative_tolerance,
-                                                   const unsigned int max_iterations)
+                                                   const unsigned int    n_steps,
+                                                   const double          relative_tolerance,
+                                                   const NewtonSettings &newton)
   {
     const auto            start = Clock::now();
     LoadSteppingResult    result;
@@ -480,7 +480,7 @@ namespace nlmech
                 (it > 0 && R.norm() > 0.5 * previous && R.norm() <= 1e-6 * g.norm()))
               break;
             previous = R.norm();
-            AssertThrow(it < max_iterations,
+            AssertThrow(it < newton.max_iterations,
                         dealii::ExcMessage("Newton did not converge at load factor " +
                                            std::to_string(lambda) + " (relative residual " +
                                            std::to_string(R.norm() / g.norm()) + ")."));
@@ -489,7 +489,7 @@ namespace nlmech
             const double          safe     = system.max_safe_step(q, dq);
             double                alpha    = safe < 1.0 ? 0.9 * safe : 1.0;
             bool                  accepted = false;
-            for (int ls = 0; ls < 40; ++ls, alpha *= 0.5)
+            for (unsigned int ls = 0; ls < newton.max_line_search; ++ls, alpha *= 0.5)
               {
                 const Eigen::VectorXd trial = q + alpha * dq;
                 if (!system.is_valid(trial))

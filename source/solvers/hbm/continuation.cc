@@ -1,10 +1,9 @@
 // Frequency-response curves by pseudo-arclength continuation (thesis 2.3.19): predictor along the
 // tangent of the bordered system, corrector, step control through folds, resonance peaks refined
-// on the curve, stability of every point.
+// on the curve, stability of every point (continuation.h).
 #include <deal.II/base/exceptions.h>
 
-#include <nlmech/solvers/hbm/periodic_solvers.h>
-#include <nlmech/solvers/linear/sparse_factorization.h>
+#include <nlmech/solvers/hbm/continuation.h>
 
 #include <algorithm>
 #include <chrono>
@@ -43,182 +42,265 @@ namespace nlmech
       B.outerIndexPtr()[n + 1] = int(k);
       return B;
     }
-
-    /// Continuation state with its unit tangent (weighted norm) and the amplitude slope dA/ds.
-    struct PathPoint
-    {
-      Eigen::VectorXd z, tz, row_z;
-      double          omega = 0, tomega = 0, amplitude = 0, dA_ds = 0, row_omega = 0, scale = 1;
-      double          step       = 0; // the predictor step along tz that led to the next point on the path
-      unsigned int    iterations = 0;
-    };
   } // namespace
 
-  FrequencyResponse trace_frequency_response(const HarmonicBalance &hb, Eigen::VectorXd z,
-                                             const ContinuationSettings &settings)
+  namespace
+  {
+    double seconds_since(const std::chrono::steady_clock::time_point t0)
+    {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+  } // namespace
+
+  PseudoArclengthContinuation::PseudoArclengthContinuation(const HarmonicBalance      &hb,
+                                                           const ContinuationSettings &settings)
+      : hb(hb)
+      , settings(settings)
   {
     AssertThrow(settings.omega_start > 0 && settings.omega_end > 0 &&
                     settings.omega_start != settings.omega_end,
                 dealii::ExcMessage("The frequency range needs two different positive frequencies."));
     AssertThrow(!settings.tracked_dofs.empty(), dealii::ExcMessage("No tracked unknowns for the amplitude."));
-    FrequencyResponse response;
-    const auto        started = std::chrono::steady_clock::now();
-    auto              since   = [](std::chrono::steady_clock::time_point t0) {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    };
-    // Timed evaluations of h, its Jacobian and dh/dw.
-    auto residual = [&](const Eigen::VectorXd &z, double w) {
-      const auto      t0 = std::chrono::steady_clock::now();
-      Eigen::VectorXd h  = hb.residual(z, w);
-      response.residual_seconds += since(t0), ++response.residuals;
-      return h;
-    };
-    auto jacobian = [&](const Eigen::VectorXd &z, double w, Eigen::VectorXd &hw) {
-      const auto                  t0 = std::chrono::steady_clock::now();
-      Eigen::SparseMatrix<double> J  = hb.jacobian(z, w);
-      hw                             = hb.d_residual_d_omega(z, w);
-      response.jacobian_seconds += since(t0), ++response.jacobians;
-      return J;
-    };
-    const double          direction = settings.omega_end > settings.omega_start ? 1.0 : -1.0;
-    PeriodicSolveSettings fixed;
-    fixed.relative_tolerance        = settings.relative_tolerance;
-    const PeriodicSolveResult first = solve_with_excitation_ramp(hb, z, settings.omega_start, fixed);
+    fixed.relative_tolerance = settings.relative_tolerance;
+    direction                = settings.omega_end > settings.omega_start ? 1.0 : -1.0;
+  }
+
+  Eigen::VectorXd PseudoArclengthContinuation::residual(const Eigen::VectorXd &z, const double w)
+  {
+    const auto      t0 = std::chrono::steady_clock::now();
+    Eigen::VectorXd h  = hb.residual(z, w);
+    response.residual_seconds += seconds_since(t0), ++response.residuals;
+    return h;
+  }
+
+  Eigen::SparseMatrix<double> PseudoArclengthContinuation::jacobian(const Eigen::VectorXd &z, const double w,
+                                                                    Eigen::VectorXd &h_omega)
+  {
+    const auto                  t0 = std::chrono::steady_clock::now();
+    Eigen::SparseMatrix<double> J  = hb.jacobian(z, w);
+    h_omega                        = hb.d_residual_d_omega(z, w);
+    response.jacobian_seconds += seconds_since(t0), ++response.jacobians;
+    return J;
+  }
+
+  void PseudoArclengthContinuation::tangent(PathPoint &p, const Eigen::VectorXd &row_z,
+                                            const double row_omega)
+  {
+    Eigen::VectorXd                   hw;
+    const Eigen::SparseMatrix<double> J = jacobian(p.z, p.omega, hw);
+    p.row_z = row_z, p.row_omega = row_omega;
+    at_current.factorize(bordered(J, hw, p.row_z, p.row_omega), false);
+    Eigen::VectorXd rhs     = Eigen::VectorXd::Zero(J.rows() + 1);
+    rhs[J.rows()]           = 1;
+    const Eigen::VectorXd t = at_current.solve(rhs);
+    const double          s = norm(t.head(J.rows()), t[J.rows()]);
+    p.tz = t.head(J.rows()) / s, p.tomega = t[J.rows()] / s;
+    Eigen::VectorXd grad;
+    p.amplitude = hb.amplitude(p.z, p.omega, settings.tracked_dofs, &grad);
+    p.dA_ds     = grad.dot(p.tz);
+    p.scale     = force_scale(hb, p.z, p.omega);
+  }
+
+  bool PseudoArclengthContinuation::correct(const PathPoint &from, const double ds, PathPoint &to,
+                                            const bool chord)
+  {
+    to.z = from.z + ds * from.tz, to.omega = from.omega + ds * from.tomega;
+    if (to.omega <= 0)
+      return false;
+    const Eigen::VectorXd zp       = to.z;
+    const double          wp       = to.omega;
+    SparseFactorization  *solver   = chord ? &at_current : &work;
+    bool                  fresh    = !chord;
+    double                previous = std::numeric_limits<double>::max();
+    for (unsigned int it = 0; it < 25; ++it)
+      {
+        if (to.omega <= 0)
+          return false;
+        const Eigen::VectorXd h = residual(to.z, to.omega);
+        if (!h.allFinite())
+          return false;
+        const double arc = from.row_z.dot(to.z - zp) + from.row_omega * (to.omega - wp);
+        const double r   = h.lpNorm<Eigen::Infinity>();
+        if (std::getenv("NLMECH_HBM_DEBUG"))
+          std::cerr << "corrector it " << it << " w " << to.omega << " r/scale " << r / from.scale << " arc "
+                    << arc << " ds " << ds << (chord ? " chord" : " newton") << std::endl;
+        if (it > 0 && r <= std::max(settings.relative_tolerance * from.scale, floor) &&
+            std::abs(arc) <= 1e-9 * std::abs(ds))
+          {
+            to.iterations = it;
+            return true;
+          }
+        // The chord iteration stalls (or this is a plain Newton step): refactorise here.
+        if (fresh || (it > 0 && r > 0.3 * previous))
+          {
+            Eigen::VectorXd                   hw;
+            const Eigen::SparseMatrix<double> J = jacobian(to.z, to.omega, hw);
+            work.factorize(bordered(J, hw, from.row_z, from.row_omega), false);
+            solver = &work, fresh = false;
+            if (!chord)
+              fresh = true; // full Newton: a new Jacobian every iteration
+          }
+        previous = r;
+        Eigen::VectorXd rhs(h.size() + 1);
+        rhs.head(h.size()) = -h, rhs[h.size()] = -arc;
+        const Eigen::VectorXd d = solver->solve(rhs);
+        to.z += d.head(h.size()), to.omega += d[h.size()];
+        if (it >= 3 && norm(d.head(h.size()), d[h.size()]) > 0.5 * ds)
+          return false; // diverging
+      }
+    return false;
+  }
+
+  bool PseudoArclengthContinuation::step(const PathPoint &current, const double ds, PathPoint &next,
+                                         double &distance)
+  {
+    distance = 0; // of the corrected point from the prediction, weighted norm
+    if (!correct(current, ds, next, true))
+      return false;
+    // The corrected point near the prediction, the curve turning by less than about 30 degrees;
+    // otherwise the corrector may have jumped to another part of the curve.
+    distance = norm(next.z - current.z - ds * current.tz, next.omega - current.omega - ds * current.tomega);
+    if (distance > 0.5 * ds)
+      return false;
+    tangent(next, wz * current.tz, ww * current.tomega);
+    return wz * next.tz.dot(current.tz) + ww * next.tomega * current.tomega >= 0.85;
+  }
+
+  double PseudoArclengthContinuation::next_step_length(const PathPoint &next, const double ds,
+                                                       const double distance) const
+  {
+    // Grow where the corrector was quick or the prediction close (stiff structures, rods, need
+    // several corrector iterations for their stretching forces however small the step: the
+    // distance in the weighted norm tells the curve's own curvature).
+    if (next.iterations <= 4 || distance <= 0.1 * ds)
+      return std::min(settings.max_step, 1.5 * ds);
+    if (next.iterations >= 8 || distance > 0.3 * ds)
+      return 0.7 * ds;
+    return ds;
+  }
+
+  void PseudoArclengthContinuation::reweight(PathPoint &current)
+  {
+    // A resonance many times larger than the start's motion would otherwise be crossed in tiny
+    // steps. A new weight needs the tangent in the new norm (one more factorisation).
+    const double harmonics = current.z.tail(current.z.size() - Eigen::Index(hb.n_free())).norm();
+    if (harmonics > 2 * z_ref || (harmonics < 0.5 * z_ref && z_ref > z_ref_start))
+      {
+        const Eigen::VectorXd previous_tz = current.tz;
+        z_ref                             = std::max(harmonics, z_ref_start);
+        wz                                = 1 / (z_ref * z_ref);
+        tangent(current, wz * previous_tz, ww * current.tomega);
+        path.back() = current;
+      }
+  }
+
+  void PseudoArclengthContinuation::record(const PathPoint &p)
+  {
+    ResponsePoint r;
+    r.omega = p.omega, r.z = p.z, r.amplitude = p.amplitude, r.d_omega_ds = p.tomega,
+    r.iterations = p.iterations;
+    r.half_range = 0;
+    for (const std::size_t d : settings.tracked_dofs)
+      r.half_range = std::max(r.half_range, hb.half_range(p.z, p.omega, d));
+    const auto started = std::chrono::steady_clock::now();
+    if (settings.stability == StabilityMethod::floquet)
+      {
+        const FloquetResult f = floquet_stability(hb, p.z, p.omega);
+        r.stable = f.stable, r.max_multiplier = f.max_multiplier;
+      }
+    else if (settings.stability != StabilityMethod::none)
+      {
+        // Solves with the Jacobian from the bordered factorisation at p (bordering lemma): with
+        // [J h_w; r^T c] (u, mu) = (b, 0) and the tangent J t_z + h_w t_w = 0,
+        // J^-1 b = u - mu t_z / t_w. Exactly at a fold (t_w = 0) J is singular.
+        const Eigen::Index n_z   = p.z.size();
+        auto               solve = [&](const Eigen::VectorXd &b) {
+          Eigen::VectorXd rhs(n_z + 1);
+          rhs.head(n_z) = b, rhs[n_z] = 0;
+          const Eigen::VectorXd u = at_current.solve(rhs);
+          return Eigen::VectorXd(u.head(n_z) - u[n_z] / p.tomega * p.tz);
+        };
+        try
+          {
+            const HillResult h = std::abs(p.tomega) > 0 ? hill_stability(hb, p.z, p.omega, solve)
+                                                        : hill_stability(hb, p.z, p.omega);
+            r.stable = h.determined ? int(h.stable) : -1, r.max_multiplier = h.max_multiplier;
+            r.hill = true;
+          }
+        catch (const std::exception &)
+          {
+            r.stable = -1; // exactly singular (at a fold): left undetermined
+          }
+      }
+    response.stability_seconds += seconds_since(started);
+    if (!response.points.empty() && (response.points.back().d_omega_ds > 0) != (r.d_omega_ds > 0))
+      response.points.back().fold = true;
+    response.points.push_back(r);
+  }
+
+  void PseudoArclengthContinuation::refine_peaks()
+  {
+    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+      if (path[i].dA_ds > 0 && path[i + 1].dA_ds <= 0)
+        {
+          // Arclength between the points in the weighted norm, along the chord (the step that
+          // produced path[i + 1], so that both ends are the same function of s).
+          double    a  = 0;
+          double    b  = path[i].step > 0 ? path[i].step
+                                          : norm(path[i + 1].z - path[i].z, path[i + 1].omega - path[i].omega);
+          double    ga = path[i].dA_ds, gb = path[i + 1].dA_ds;
+          PathPoint best = std::abs(ga) < std::abs(gb) ? path[i] : path[i + 1];
+          for (int it = 0; it < 12 && std::abs(b - a) > 1e-10 * (1 + b); ++it)
+            {
+              const double s = b - gb * (b - a) / (gb - ga);
+              PathPoint    trial;
+              if (!correct(path[i], s, trial, false))
+                break;
+              tangent(trial, wz * path[i].tz, ww * path[i].tomega);
+              a = b, ga = gb, b = s, gb = trial.dA_ds;
+              best = trial;
+              if (std::abs(gb) < 1e-12 * (1 + best.amplitude))
+                break;
+            }
+          Resonance r;
+          r.omega = best.omega, r.amplitude = best.amplitude, r.z = best.z;
+          // Near a fold dA/ds can flip twice within a step or two: one peak.
+          if (!response.peaks.empty() && std::abs(response.peaks.back().omega - r.omega) < 1e-2 * w_ref)
+            {
+              if (r.amplitude > response.peaks.back().amplitude)
+                response.peaks.back() = r;
+            }
+          else
+            response.peaks.push_back(r);
+        }
+  }
+
+  FrequencyResponse PseudoArclengthContinuation::trace(Eigen::VectorXd z)
+  {
+    response = FrequencyResponse();
+    path.clear();
+    const auto                started = std::chrono::steady_clock::now();
+    const PeriodicSolveResult first   = solve_with_excitation_ramp(hb, z, settings.omega_start, fixed);
     AssertThrow(first.converged,
                 dealii::ExcMessage("Harmonic balance: no periodic state found at the start "
                                    "frequency " +
                                    std::to_string(settings.omega_start) + " rad/s (" + first.message + ")."));
     // Weighted norm: z in units of its harmonic size at the start, w in units of the range.
-    double z_ref       = z.tail(z.size() - Eigen::Index(hb.n_free())).norm();
-    z_ref              = std::max(z_ref, 1e-9 * std::max(1.0, z.head(hb.n_free()).lpNorm<Eigen::Infinity>()));
-    const double w_ref = std::abs(settings.omega_end - settings.omega_start);
-    const double z_ref_start = z_ref;
-    double       wz          = 1 / (z_ref * z_ref);
-    const double ww          = 1 / (w_ref * w_ref);
-    const double floor       = residual_floor(hb, z); // round-off level of the residual (positions ~ |x|)
-    auto         norm        = [&](const Eigen::VectorXd &dz, double dw) {
-      return std::sqrt(wz * dz.squaredNorm() + ww * dw * dw);
-    };
-
-    // `at_current`: the bordered matrix of the last tangent, [J(y_i), h_w(y_i); r_i^T], with the
-    // border row r_i = W t_{i-1}; the corrector from y_i reuses it (chord Newton) with the hyperplane
-    // r_i^T (y - y_pred) = 0, and refactorises only when that stalls.
-    SparseFactorization at_current, work;
-    // Tangent at (z, w) with the sign of the previous tangent (2.3.19).
-    auto tangent = [&](PathPoint &p, const Eigen::VectorXd &row_z, double row_omega) {
-      Eigen::VectorXd                   hw;
-      const Eigen::SparseMatrix<double> J = jacobian(p.z, p.omega, hw);
-      p.row_z = row_z, p.row_omega = row_omega;
-      at_current.factorize(bordered(J, hw, p.row_z, p.row_omega), false);
-      Eigen::VectorXd rhs     = Eigen::VectorXd::Zero(J.rows() + 1);
-      rhs[J.rows()]           = 1;
-      const Eigen::VectorXd t = at_current.solve(rhs);
-      const double          s = norm(t.head(J.rows()), t[J.rows()]);
-      p.tz = t.head(J.rows()) / s, p.tomega = t[J.rows()] / s;
-      Eigen::VectorXd grad;
-      p.amplitude = hb.amplitude(p.z, p.omega, settings.tracked_dofs, &grad);
-      p.dA_ds     = grad.dot(p.tz);
-      p.scale     = force_scale(hb, p.z, p.omega);
-    };
-    // Corrector from the prediction y_i + ds t_i on the hyperplane r_i^T (y - y_pred) = 0. With
-    // `chord`, `at_current` must hold the factorisation at `from`.
-    auto correct = [&](const PathPoint &from, const double ds, PathPoint &to, bool chord) {
-      to.z = from.z + ds * from.tz, to.omega = from.omega + ds * from.tomega;
-      if (to.omega <= 0)
-        return false;
-      const Eigen::VectorXd zp       = to.z;
-      const double          wp       = to.omega;
-      SparseFactorization  *solver   = chord ? &at_current : &work;
-      bool                  fresh    = !chord;
-      double                previous = std::numeric_limits<double>::max();
-      for (unsigned int it = 0; it < 25; ++it)
-        {
-          if (to.omega <= 0)
-            return false;
-          const Eigen::VectorXd h = residual(to.z, to.omega);
-          if (!h.allFinite())
-            return false;
-          const double arc = from.row_z.dot(to.z - zp) + from.row_omega * (to.omega - wp);
-          const double r   = h.lpNorm<Eigen::Infinity>();
-          if (std::getenv("NLMECH_HBM_DEBUG"))
-            std::cerr << "corrector it " << it << " w " << to.omega << " r/scale " << r / from.scale
-                      << " arc " << arc << " ds " << ds << (chord ? " chord" : " newton") << std::endl;
-          if (it > 0 && r <= std::max(settings.relative_tolerance * from.scale, floor) &&
-              std::abs(arc) <= 1e-9 * std::abs(ds))
-            {
-              to.iterations = it;
-              return true;
-            }
-          // The chord iteration stalls (or this is a plain Newton step): refactorise here.
-          if (fresh || (it > 0 && r > 0.3 * previous))
-            {
-              Eigen::VectorXd                   hw;
-              const Eigen::SparseMatrix<double> J = jacobian(to.z, to.omega, hw);
-              work.factorize(bordered(J, hw, from.row_z, from.row_omega), false);
-              solver = &work, fresh = false;
-              if (!chord)
-                fresh = true; // full Newton: a new Jacobian every iteration
-            }
-          previous = r;
-          Eigen::VectorXd rhs(h.size() + 1);
-          rhs.head(h.size()) = -h, rhs[h.size()] = -arc;
-          const Eigen::VectorXd d = solver->solve(rhs);
-          to.z += d.head(h.size()), to.omega += d[h.size()];
-          if (it >= 3 && norm(d.head(h.size()), d[h.size()]) > 0.5 * ds)
-            return false; // diverging
-        }
-      return false;
-    };
+    z_ref       = z.tail(z.size() - Eigen::Index(hb.n_free())).norm();
+    z_ref       = std::max(z_ref, 1e-9 * std::max(1.0, z.head(hb.n_free()).lpNorm<Eigen::Infinity>()));
+    w_ref       = std::abs(settings.omega_end - settings.omega_start);
+    z_ref_start = z_ref;
+    wz          = 1 / (z_ref * z_ref);
+    ww          = 1 / (w_ref * w_ref);
+    floor       = residual_floor(hb, z); // round-off level of the residual (positions ~ |x|)
 
     PathPoint current;
     current.z = z, current.omega = settings.omega_start;
     tangent(current, Eigen::VectorXd::Zero(z.size()), ww * direction);
     current.iterations = first.iterations;
-    auto record        = [&](const PathPoint &p) {
-      ResponsePoint r;
-      r.omega = p.omega, r.z = p.z, r.amplitude = p.amplitude, r.d_omega_ds = p.tomega,
-      r.iterations = p.iterations;
-      r.half_range = 0;
-      for (const std::size_t d : settings.tracked_dofs)
-        r.half_range = std::max(r.half_range, hb.half_range(p.z, p.omega, d));
-      const auto started = std::chrono::steady_clock::now();
-      if (settings.stability == StabilityMethod::floquet)
-        {
-          const FloquetResult f = floquet_stability(hb, p.z, p.omega);
-          r.stable = f.stable, r.max_multiplier = f.max_multiplier;
-        }
-      else if (settings.stability != StabilityMethod::none)
-        {
-          // Solves with the Jacobian from the bordered factorisation at p (bordering lemma): with
-          // [J h_w; r^T c] (u, mu) = (b, 0) and the tangent J t_z + h_w t_w = 0,
-          // J^-1 b = u - mu t_z / t_w. Exactly at a fold (t_w = 0) J is singular.
-          const Eigen::Index n_z   = p.z.size();
-          auto               solve = [&](const Eigen::VectorXd &b) {
-            Eigen::VectorXd rhs(n_z + 1);
-            rhs.head(n_z) = b, rhs[n_z] = 0;
-            const Eigen::VectorXd u = at_current.solve(rhs);
-            return Eigen::VectorXd(u.head(n_z) - u[n_z] / p.tomega * p.tz);
-          };
-          try
-            {
-              const HillResult h = std::abs(p.tomega) > 0 ? hill_stability(hb, p.z, p.omega, solve)
-                                                                 : hill_stability(hb, p.z, p.omega);
-              r.stable = h.determined ? int(h.stable) : -1, r.max_multiplier = h.max_multiplier;
-              r.hill = true;
-            }
-          catch (const std::exception &)
-            {
-              r.stable = -1; // exactly singular (at a fold): left undetermined
-            }
-        }
-      response.stability_seconds += since(started);
-      if (!response.points.empty() && (response.points.back().d_omega_ds > 0) != (r.d_omega_ds > 0))
-        response.points.back().fold = true;
-      response.points.push_back(r);
-    };
     record(current);
-    std::vector<PathPoint> path = {current};
-    double                 ds   = settings.initial_step;
+    path      = {current};
+    double ds = settings.initial_step;
     while (true)
       {
         if (response.points.size() >= settings.max_points)
@@ -228,25 +310,11 @@ namespace nlmech
             break;
           }
         PathPoint next;
-        double    distance = 0; // of the corrected point from the prediction, weighted norm
-        bool      accepted = correct(current, ds, next, true);
-        if (accepted)
+        double    distance = 0;
+        if (!step(current, ds, next, distance))
           {
-            // Step control: the corrected point near the prediction, the curve turning by less than
-            // about 30 degrees; otherwise the corrector may have jumped to another part of the curve.
-            distance =
-                norm(next.z - current.z - ds * current.tz, next.omega - current.omega - ds * current.tomega);
-            accepted = distance <= 0.5 * ds;
-            if (accepted)
-              {
-                tangent(next, wz * current.tz, ww * current.tomega);
-                accepted = wz * next.tz.dot(current.tz) + ww * next.tomega * current.tomega >= 0.85;
-                if (!accepted) // restore the factorisation at the current point
-                  tangent(current, current.row_z, current.row_omega);
-              }
-          }
-        if (!accepted)
-          {
+            if (next.tz.size() > 0) // rejected for its turn: restore the factorisation at current
+              tangent(current, current.row_z, current.row_omega);
             if (std::getenv("NLMECH_HBM_DEBUG"))
               std::cerr << "step rejected at w " << current.omega << " ds " << ds << " distance/ds "
                         << distance / ds << std::endl;
@@ -297,65 +365,21 @@ namespace nlmech
             response.stop_reason = "the curve turned back far below the start frequency";
             break;
           }
-        // Step size: grow where the corrector was quick or the prediction close (stiff structures,
-        // rods, need several corrector iterations for their stretching forces however small the
-        // step: the distance in the weighted norm tells the curve's own curvature).
-        if (next.iterations <= 4 || distance <= 0.1 * ds)
-          ds = std::min(settings.max_step, 1.5 * ds);
-        else if (next.iterations >= 8 || distance > 0.3 * ds)
-          ds *= 0.7;
+        ds      = next_step_length(next, ds, distance);
         current = next;
-        // The weight of z follows the size of the motion (never below its size at the start): a
-        // resonance many times larger than the start's motion would otherwise be crossed in tiny
-        // steps. A new weight needs the tangent in the new norm (one more factorisation).
-        const double harmonics = current.z.tail(current.z.size() - Eigen::Index(hb.n_free())).norm();
-        if (harmonics > 2 * z_ref || (harmonics < 0.5 * z_ref && z_ref > z_ref_start))
-          {
-            const Eigen::VectorXd previous_tz = current.tz;
-            z_ref                             = std::max(harmonics, z_ref_start);
-            wz                                = 1 / (z_ref * z_ref);
-            tangent(current, wz * previous_tz, ww * current.tomega);
-            path.back() = current;
-          }
+        reweight(current);
       }
-    // Resonance peaks: dA/ds from + to -; refined on the curve by the secant method on arclength.
-    for (std::size_t i = 0; i + 1 < path.size(); ++i)
-      if (path[i].dA_ds > 0 && path[i + 1].dA_ds <= 0)
-        {
-          double a = 0, b = 0;
-          // arclength between the points in the weighted norm, along the chord
-          // (the step that produced path[i + 1], so that both ends are the same function of s)
-          b            = path[i].step > 0 ? path[i].step
-                                          : norm(path[i + 1].z - path[i].z, path[i + 1].omega - path[i].omega);
-          double    ga = path[i].dA_ds, gb = path[i + 1].dA_ds;
-          PathPoint best = std::abs(ga) < std::abs(gb) ? path[i] : path[i + 1];
-          for (int it = 0; it < 12 && std::abs(b - a) > 1e-10 * (1 + b); ++it)
-            {
-              const double s = b - gb * (b - a) / (gb - ga);
-              PathPoint    trial;
-              if (!correct(path[i], s, trial, false))
-                break;
-              tangent(trial, wz * path[i].tz, ww * path[i].tomega);
-              a = b, ga = gb, b = s, gb = trial.dA_ds;
-              best = trial;
-              if (std::abs(gb) < 1e-12 * (1 + best.amplitude))
-                break;
-            }
-          Resonance r;
-          r.omega = best.omega, r.amplitude = best.amplitude, r.z = best.z;
-          // Near a fold dA/ds can flip twice within a step or two: one peak.
-          if (!response.peaks.empty() && std::abs(response.peaks.back().omega - r.omega) < 1e-2 * w_ref)
-            {
-              if (r.amplitude > response.peaks.back().amplitude)
-                response.peaks.back() = r;
-            }
-          else
-            response.peaks.push_back(r);
-        }
+    refine_peaks();
     response.factorizations        = at_current.n_factorizations + work.n_factorizations;
     response.factorization_seconds = at_current.factorization_seconds + work.factorization_seconds;
     response.solve_seconds         = at_current.solve_seconds + work.solve_seconds;
-    response.seconds               = since(started);
+    response.seconds               = seconds_since(started);
     return response;
+  }
+
+  FrequencyResponse trace_frequency_response(const HarmonicBalance &hb, Eigen::VectorXd z,
+                                             const ContinuationSettings &settings)
+  {
+    return PseudoArclengthContinuation(hb, settings).trace(std::move(z));
   }
 } // namespace nlmech

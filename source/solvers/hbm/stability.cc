@@ -1,8 +1,9 @@
 // Stability of a periodic state: Floquet multipliers from the monodromy matrix (time domain, dense)
-// and Hill's method (the Floquet exponents from the HBM Jacobian by shift-and-invert Arnoldi).
+// and Hill's method (the Floquet exponents from the HBM Jacobian by shift-and-invert Arnoldi, ARPACK).
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/solvers/hbm/periodic_solvers.h>
+#include <nlmech/solvers/linear/arpack_eigenvalues.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
 
 #include <Eigen/Eigenvalues>
@@ -90,90 +91,77 @@ namespace nlmech
     // First-order form A y = lambda B y with y = (u, lambda u), A = [[0, I], [-D0, -D1]],
     // B = diag(I, D2). Shift-and-invert at 0: T = A^-1 B, theta = 1 / lambda,
     // T (y1, y2) = (-D0^-1 (D1 y1 + D2 y2), y1).
-    auto apply = [&](const Eigen::VectorXd &y) {
-      Eigen::VectorXd out(2 * N);
-      out.head(N) = -solve(D1 * y.head(N) + D2.cwiseProduct(y.tail(N)));
-      out.tail(N) = y.head(N);
-      return out;
+    const Eigen::Index dim   = 2 * N;
+    auto               apply = [&](const double *x, double *y) {
+      const Eigen::Map<const Eigen::VectorXd> in(x, dim);
+      Eigen::Map<Eigen::VectorXd>             out(y, dim);
+      const Eigen::VectorXd                   top = -solve(D1 * in.head(N) + D2.cwiseProduct(in.tail(N)));
+      AssertThrow(top.allFinite(), dealii::ExcMessage("Hill's method: the solve with the Jacobian failed."));
+      out.head(N) = top;
+      out.tail(N) = in.head(N);
     };
-    const Eigen::Index m_max  = std::min<Eigen::Index>(2 * N, max_krylov_dimension);
-    const double       radius = omega, T       = 2 * pi / omega;
-    Eigen::MatrixXd    V(2 * N, m_max + 1), Hm = Eigen::MatrixXd::Zero(m_max + 1, m_max);
-    // A fixed, generic start vector (a deterministic pseudo-random sequence).
-    std::uint64_t state = 0x9E3779B97F4A7C15ull;
-    for (Eigen::Index i = 0; i < 2 * N; ++i)
-      {
-        state ^= state << 13, state ^= state >> 7, state ^= state << 17;
-        V(i, 0) = double(state % 2000001) / 1e6 - 1.0;
-      }
-    V.col(0).normalize();
-    HillResult   result;
-    Eigen::Index m         = 0;
-    bool         invariant = false;
+    const double radius = omega, T = 2 * pi / omega;
+    // Every eigenvalue with |lambda| < radius is wanted: about two copies of each of the 2n
+    // exponent families (|Im| < w). ARPACK is asked for that many of largest |theta| and for more
+    // while the smallest one it returns still lies within the radius.
+    const Eigen::Index                cap = std::min<Eigen::Index>(dim, max_krylov_dimension);
+    Eigen::Index                      nev = std::min<Eigen::Index>(4 * n + 8, cap - 2);
+    std::vector<std::complex<double>> thetas;
+    HillResult                        result;
     while (true)
       {
-        const Eigen::Index target = std::min(m_max, m == 0 ? std::min<Eigen::Index>(m_max, 30) : m + 30);
-        for (; m < target && !invariant; ++m)
-          {
-            Eigen::VectorXd w = apply(V.col(m));
-            AssertThrow(w.allFinite(),
-                        dealii::ExcMessage("Hill's method: the solve with the Jacobian failed."));
-            const double norm0 = w.norm();
-            // Classical Gram-Schmidt, twice (full reorthogonalisation).
-            for (int pass = 0; pass < 2; ++pass)
-              {
-                const Eigen::VectorXd h = V.leftCols(m + 1).transpose() * w;
-                w -= V.leftCols(m + 1) * h;
-                Hm.col(m).head(m + 1) += h;
-              }
-            Hm(m + 1, m) = w.norm();
-            if (Hm(m + 1, m) <= 1e-13 * norm0)
-              invariant = true, Hm(m + 1, m) = 0;
-            else
-              V.col(m + 1) = w / Hm(m + 1, m);
-          }
-        // Ritz pairs; residual |h_{m+1,m}| |e_m^T s| of unit eigenvectors s.
-        Eigen::EigenSolver<Eigen::MatrixXd> eig(Hm.topLeftCorner(m, m), true);
-        const double                        beta          = Hm(m, m - 1);
-        bool                                all_converged = true;
-        unsigned int                        inside        = 0;
-        result.exponents.clear();
-        double max_real = -std::numeric_limits<double>::infinity();
-        for (Eigen::Index i = 0; i < m; ++i)
-          {
-            const std::complex<double> theta = eig.eigenvalues()[i];
-            if (std::abs(theta) * radius < 1) // |lambda| > radius
-              continue;
-            ++inside;
-            const double residual =
-                beta * std::abs(eig.eigenvectors()(m - 1, i)) / eig.eigenvectors().col(i).norm();
-            if (residual > 1e-8 * std::abs(theta))
-              {
-                all_converged = false;
-                continue;
-              }
-            const std::complex<double> lambda = 1.0 / theta;
-            if (std::abs(lambda.imag()) <= 0.5 * omega * (1 + 1e-9))
-              {
-                result.exponents.push_back(lambda);
-                max_real = std::max(max_real, lambda.real());
-              }
-          }
-        result.krylov_dimension = unsigned(m);
-        // Done when everything within the radius has converged and the Krylov space reaches well
-        // beyond it (half of the Ritz values outside), or the space is exhausted.
-        const bool done = (all_converged && 2 * Eigen::Index(inside) < m) || invariant || m >= m_max;
-        if (!done)
-          continue;
-        result.determined = all_converged;
-        if (max_real == -std::numeric_limits<double>::infinity())
-          max_real = -std::sqrt(0.75) * radius; // no exponent within the radius: all are below this
-        result.max_real_part  = max_real;
-        result.max_multiplier = std::exp(max_real * T);
-        result.stable         = max_real * T <= std::log1p(tolerance);
-        std::sort(result.exponents.begin(), result.exponents.end(),
-                  [](auto a, auto b) { return a.real() > b.real(); });
-        return result;
+        if (nev < 1)
+          break;
+        ArpackSettings as;
+        as.n_eigenvalues         = unsigned(nev);
+        as.n_arnoldi             = unsigned(std::min<Eigen::Index>(cap, 2 * nev + 1));
+        as.tolerance             = 1e-12;
+        const ArpackResult r     = largest_eigenvalues(apply, unsigned(dim), as);
+        result.krylov_dimension  = r.n_arnoldi;
+        thetas                   = r.eigenvalues;
+        const bool all_converged = r.n_converged >= unsigned(nev);
+        const bool beyond =
+            !thetas.empty() && std::abs(thetas.back()) * radius < 1; // the smallest |theta| is outside
+        result.determined = all_converged && beyond;
+        if (result.determined || !all_converged || nev >= cap - 2)
+          break;
+        nev = std::min<Eigen::Index>(2 * nev, cap - 2);
       }
+    if (!result.determined && dim <= Eigen::Index(max_krylov_dimension))
+      {
+        // A small problem whose radius holds nearly all eigenvalues: the dense operator.
+        Eigen::MatrixXd Td(dim, dim);
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(dim);
+        for (Eigen::Index j = 0; j < dim; ++j)
+          {
+            e[j] = 1;
+            apply(e.data(), Td.col(j).data());
+            e[j] = 0;
+          }
+        const Eigen::VectorXcd all = Eigen::EigenSolver<Eigen::MatrixXd>(Td, false).eigenvalues();
+        thetas.assign(all.data(), all.data() + all.size());
+        result.determined       = true;
+        result.krylov_dimension = unsigned(dim);
+      }
+    double max_real = -std::numeric_limits<double>::infinity();
+    for (const std::complex<double> theta : thetas)
+      {
+        if (std::abs(theta) * radius < 1) // |lambda| > radius
+          continue;
+        const std::complex<double> lambda = 1.0 / theta;
+        if (std::abs(lambda.imag()) <= 0.5 * omega * (1 + 1e-9))
+          {
+            result.exponents.push_back(lambda);
+            max_real = std::max(max_real, lambda.real());
+          }
+      }
+    if (max_real == -std::numeric_limits<double>::infinity())
+      max_real = -std::sqrt(0.75) * radius; // no exponent within the radius: all are below this
+    result.max_real_part  = max_real;
+    result.max_multiplier = std::exp(max_real * T);
+    result.stable         = max_real * T <= std::log1p(tolerance);
+    std::sort(result.exponents.begin(), result.exponents.end(),
+              [](auto a, auto b) { return a.real() > b.real(); });
+    return result;
   }
 } // namespace nlmech

@@ -247,14 +247,17 @@ namespace nlmech
     step.add_term(std::make_shared<InertiaTerm>(model.model.lumped_mass(), x_hat, dt_effective, force));
     Eigen::VectorXd y = start;
     NewtonSettings  ns;
-    ns.relative_tolerance       = settings.newton_tolerance;
-    ns.max_iterations           = 100;
-    ns.project_element_hessians = settings.project_element_hessians;
-    ns.step_tolerance           = settings.newton_velocity_tolerance * dt_effective;
+    ns.relative_tolerance = settings.newton_tolerance;
+    ns.max_iterations     = 100;
+    ns.step_tolerance     = settings.newton_velocity_tolerance * dt_effective;
+    NewtonSolver newton(
+        ns, settings.project_element_hessians
+                ? std::shared_ptr<HessianRegularization>(std::make_shared<ProjectedElementHessians>())
+                : std::make_shared<DiagonalShift>());
     NewtonResult r;
     try
       {
-        r = minimize_with_newton(step, y, ns);
+        r = newton.minimize(step, y);
       }
     catch (const dealii::ExceptionBase &e)
       {

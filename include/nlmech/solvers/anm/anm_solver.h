@@ -11,6 +11,7 @@
 #include <nlmech/models/equilibrium_system.h>
 
 #include <nlmech/models/model.h>
+#include <nlmech/solvers/newton/newton_solver.h>
 
 #include <memory>
 #include <string>
@@ -121,13 +122,17 @@ namespace nlmech
     AnmSettings                              settings;
   };
 
-  /// Newton with backtracking on |R| for r(q) = g, load stepped (works for non-symmetric tangents).
+  /// Newton with backtracking on |R| for r(q) = g, load stepped (works for non-symmetric tangents);
+  /// `newton` gives the iteration and line-search limits per load step.
   LoadSteppingResult solve_equilibrium_with_newton(const EquilibriumSystem &system,
                                                    const Eigen::VectorXd &load, Eigen::VectorXd &q,
                                                    unsigned int n_steps, double relative_tolerance = 1e-9,
-                                                   unsigned int max_iterations = 50);
+                                                   const NewtonSettings &newton = {});
 
+  /// Newton on the energy (newton_solver.h), load stepped; `newton` gives the iteration limits,
+  /// the tolerance is |g_free| <= relative_tolerance |load_free| at every step.
   LoadSteppingResult solve_with_load_stepping(const Model &internal, const Eigen::VectorXd &load,
                                               Eigen::VectorXd &x, unsigned int n_steps,
-                                              double relative_tolerance = 1e-9);
+                                              double                relative_tolerance = 1e-9,
+                                              const NewtonSettings &newton             = {});
 } // namespace nlmech

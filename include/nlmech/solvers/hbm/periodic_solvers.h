@@ -77,10 +77,13 @@ namespace nlmech
   /// Hill's method: the Floquet exponents lambda of the periodic solution are eigenvalues of the
   /// quadratic problem (Delta_0 + lambda Delta_1 + lambda^2 Delta_2) u = 0 in the harmonic basis
   /// (Delta_0 the HBM Jacobian, HarmonicBalance::jacobian documents Delta_1 and Delta_2). Its
-  /// first-order form is solved by Arnoldi with shift-and-invert at 0, which needs only solves with
-  /// the Jacobian (`solve_jacobian`; empty: it is factorised here): the eigenvalues nearest 0 come
+  /// first-order form is solved with shift-and-invert at 0 by ARPACK's implicitly restarted
+  /// Arnoldi method, which needs only solves with the Jacobian (`solve_jacobian`: the
+  /// continuation's factorisation; empty: it is factorised here): the eigenvalues nearest 0 come
   /// first, and the ones that decide stability lie there. Every eigenvalue within the radius w of 0
-  /// must converge (relative residual 1e-8); those in the strip |Im| <= w/2 are the exponents (the
+  /// must converge (ARPACK's relative residual 1e-12; more are requested until the smallest one
+  /// returned lies outside the radius, the Krylov basis at most max_krylov_dimension; a problem
+  /// that small is solved densely instead); those in the strip |Im| <= w/2 are the exponents (the
   /// truncation's spurious eigenvalues sit near |Im| = N_H w, outside). An exponent with a real part
   /// beyond about 0.87 w (a multiplier above e^5) is outside the radius and not seen. Stable when
   /// max Re lambda T <= log(1 + tolerance), as for the Floquet multipliers.

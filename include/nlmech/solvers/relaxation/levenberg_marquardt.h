@@ -1,7 +1,8 @@
 #pragma once
 // Levenberg-Marquardt on |r(q) - g|^2 for an EquilibriumSystem: the baseline of the ANM paper's
-// inverse-design comparison. Each iteration solves (J^T J + mu diag(J^T J)) dq = -J^T R with CHOLMOD;
-// mu shrinks after a successful step and grows after a rejected one.
+// inverse-design comparison (the paper ran levmar), by Ceres' trust-region Levenberg-Marquardt
+// with sparse normal Cholesky (SuiteSparse). A trial point with an inverted element is a rejected
+// step. Converged when |r - g| <= relative_tolerance |g|.
 
 #include <nlmech/models/equilibrium_system.h>
 
@@ -11,7 +12,7 @@ namespace nlmech
   {
     double       relative_tolerance = 1e-9;
     unsigned int max_iterations     = 2000;
-    double       initial_damping    = 1e-3;
+    double       initial_damping    = 1e-3; // 1 / Ceres' initial trust-region radius
   };
 
   struct LevenbergMarquardtResult
