@@ -222,8 +222,11 @@ namespace nlmech
         };
         try
           {
-            const HillResult h = std::abs(p.tomega) > 0 ? hill_stability(hb, p.z, p.omega, solve)
-                                                        : hill_stability(hb, p.z, p.omega);
+            // The previous point's count of eigenvalues within the radius is the first request.
+            const HillResult h = std::abs(p.tomega) > 0
+                                     ? hill_stability(hb, p.z, p.omega, solve, 1e-6, 400, hill_request)
+                                     : hill_stability(hb, p.z, p.omega, {}, 1e-6, 400, hill_request);
+            hill_request = h.determined ? h.within_radius + 8 : 0;
             r.stable = h.determined ? int(h.stable) : -1, r.max_multiplier = h.max_multiplier;
             r.hill = true;
           }

@@ -76,7 +76,8 @@ namespace nlmech
 
   HillResult hill_stability(const HarmonicBalance &hb, const Eigen::VectorXd &z, const double omega,
                             const std::function<Eigen::VectorXd(const Eigen::VectorXd &)> &solve_jacobian,
-                            const double tolerance, const unsigned int max_krylov_dimension)
+                            const double tolerance, const unsigned int max_krylov_dimension,
+                            const unsigned int first_request)
   {
     const Eigen::SparseMatrix<double> D1 = hb.hill_damping(z, omega);
     const Eigen::Index                N = D1.rows(), n = Eigen::Index(hb.n_free());
@@ -101,31 +102,33 @@ namespace nlmech
       out.tail(N) = in.head(N);
     };
     const double radius = omega, T = 2 * pi / omega;
-    // Every eigenvalue with |lambda| < radius is wanted: about two copies of each of the 2n
-    // exponent families (|Im| < w). ARPACK is asked for that many of largest |theta| and for more
-    // while the smallest one it returns still lies within the radius.
-    const Eigen::Index                cap = std::min<Eigen::Index>(dim, max_krylov_dimension);
-    Eigen::Index                      nev = std::min<Eigen::Index>(4 * n + 8, cap - 2);
+    // Every eigenvalue with |lambda| < radius is wanted: two copies (|Im| < w) of each exponent
+    // family the harmonics resolve (modes below about N_H w). ARPACK is asked for `first_request`
+    // of largest |theta| (the continuation passes the previous point's count), and for twice as
+    // many while the smallest one it returns still lies within the radius.
+    const Eigen::Index cap     = std::min<Eigen::Index>(dim, max_krylov_dimension);
+    const Eigen::Index largest = (cap - 1) / 2; // so that the basis holds 2 nev + 1 vectors
+    Eigen::Index       nev     = std::min<Eigen::Index>(first_request > 0 ? Eigen::Index(first_request) : 24, largest);
     std::vector<std::complex<double>> thetas;
     HillResult                        result;
-    while (true)
+    while (nev >= 1)
       {
-        if (nev < 1)
-          break;
         ArpackSettings as;
         as.n_eigenvalues         = unsigned(nev);
-        as.n_arnoldi             = unsigned(std::min<Eigen::Index>(cap, 2 * nev + 1));
+        as.n_arnoldi             = unsigned(2 * nev + 1);
         as.tolerance             = 1e-12;
         const ArpackResult r     = largest_eigenvalues(apply, unsigned(dim), as);
         result.krylov_dimension  = r.n_arnoldi;
+        result.requested         = unsigned(nev);
+        result.operator_products += r.products;
         thetas                   = r.eigenvalues;
         const bool all_converged = r.n_converged >= unsigned(nev);
         const bool beyond =
             !thetas.empty() && std::abs(thetas.back()) * radius < 1; // the smallest |theta| is outside
         result.determined = all_converged && beyond;
-        if (result.determined || !all_converged || nev >= cap - 2)
+        if (result.determined || !all_converged || nev >= largest)
           break;
-        nev = std::min<Eigen::Index>(2 * nev, cap - 2);
+        nev = std::min<Eigen::Index>(2 * nev, largest);
       }
     if (!result.determined && dim <= Eigen::Index(max_krylov_dimension))
       {
@@ -148,6 +151,7 @@ namespace nlmech
       {
         if (std::abs(theta) * radius < 1) // |lambda| > radius
           continue;
+        ++result.within_radius;
         const std::complex<double> lambda = 1.0 / theta;
         if (std::abs(lambda.imag()) <= 0.5 * omega * (1 + 1e-9))
           {

@@ -64,6 +64,7 @@ namespace nlmech
     // and a second one for corrector refactorisations.
     SparseFactorization    at_current, work;
     std::vector<PathPoint> path;
+    unsigned int           hill_request = 0; // eigenvalues asked of ARPACK at the last point
     FrequencyResponse      response;
   };
 } // namespace nlmech

@@ -69,7 +69,10 @@ namespace nlmech
     bool         stable           = false; // max Re lambda T <= log(1 + tolerance)
     double       max_real_part    = 0;     // largest Re lambda found [1/s]
     double       max_multiplier   = 0;     // exp(max_real_part T), comparable with Floquet's |mu|
-    unsigned int krylov_dimension = 0;
+    unsigned int krylov_dimension  = 0; // ARPACK's basis in the last attempt (the dimension if dense)
+    unsigned int requested         = 0; // eigenvalues ARPACK was asked for in the last attempt
+    unsigned int operator_products = 0; // solves with the Jacobian over all attempts
+    unsigned int within_radius     = 0; // eigenvalues found with |lambda| < w
     /// Converged Floquet exponents in the fundamental strip |Im lambda| <= w/2 within the radius.
     std::vector<std::complex<double>> exponents;
   };
@@ -81,16 +84,18 @@ namespace nlmech
   /// Arnoldi method, which needs only solves with the Jacobian (`solve_jacobian`: the
   /// continuation's factorisation; empty: it is factorised here): the eigenvalues nearest 0 come
   /// first, and the ones that decide stability lie there. Every eigenvalue within the radius w of 0
-  /// must converge (ARPACK's relative residual 1e-12; more are requested until the smallest one
-  /// returned lies outside the radius, the Krylov basis at most max_krylov_dimension; a problem
-  /// that small is solved densely instead); those in the strip |Im| <= w/2 are the exponents (the
+  /// must converge (ARPACK's relative residual 1e-12; `first_request` (0: 24) are requested first
+  /// and twice as many until the smallest one returned lies outside the radius, the Krylov basis
+  /// at most max_krylov_dimension; a problem that small is solved densely instead); those in the
+  /// strip |Im| <= w/2 are the exponents (the
   /// truncation's spurious eigenvalues sit near |Im| = N_H w, outside). An exponent with a real part
   /// beyond about 0.87 w (a multiplier above e^5) is outside the radius and not seen. Stable when
   /// max Re lambda T <= log(1 + tolerance), as for the Floquet multipliers.
   HillResult
   hill_stability(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega,
                  const std::function<Eigen::VectorXd(const Eigen::VectorXd &)> &solve_jacobian = {},
-                 double tolerance = 1e-6, unsigned int max_krylov_dimension = 400);
+                 double tolerance = 1e-6, unsigned int max_krylov_dimension = 400,
+                 unsigned int first_request = 0);
 
   /// How the continuation decides stability. Hill's method reuses the continuation's factorisation
   /// and is the default at every size (on the three-link mechanism it classifies all 449 points as
