@@ -24,15 +24,7 @@ namespace nlmech
     prm.enter_subsection("Harmonic balance");
     prm.declare_entry("Harmonics", "7", Patterns::Integer(), "N_H [-].");
     prm.declare_entry("Time samples", "0", Patterns::Integer(), "N_AFT >= 2 N_H + 1; 0: automatic [-].");
-    prm.declare_entry("Frequency range", "0.5, 2.5", Patterns::Anything(),
-                      "Start and end of the frequency-response curve [rad/s].");
-    prm.declare_entry("Maximum step", "0.05", Patterns::Double(0), "Largest continuation step (scaled) [-].");
-    prm.declare_entry("Maximum amplitude", "100", Patterns::Double(0),
-                      "Stop the curve (partial result) beyond this half range [m].");
-    prm.declare_entry("Tolerance", "1e-9", Patterns::Double(0), "|h| relative to the force scale [-].");
-    prm.declare_entry("Maximum points", "2000", Patterns::Integer(1),
-                      "Largest number of points on the frequency-response curve; beyond it the curve "
-                      "stops (partial result) [-].");
+    ContinuationSettings::declare_parameters(prm);
     prm.declare_entry("Frequency response", "true", Patterns::Bool(),
                       "Trace the frequency-response curve over the frequency range; false: only the "
                       "evaluation frequencies and the backbone below.");
@@ -48,11 +40,6 @@ namespace nlmech
         "size (thesis 2.5.1; e.g. 1e-3) [-].");
     prm.declare_entry("Adaptive frequency", "0", Patterns::Double(0),
                       "Where the number of harmonics is chosen; 0: the start frequency [rad/s].");
-    prm.declare_entry("Stability", "hill", Patterns::Selection("hill|floquet|none"),
-                      "Stability of every point: hill (Hill's method: the Floquet exponents from the HBM "
-                      "Jacobian by shift-and-invert Arnoldi, reusing the continuation's factorisation; any "
-                      "size), floquet (monodromy matrix by RK4, dense: a time-domain cross-check for models "
-                      "of up to a few dozen free unknowns) or none.");
     prm.declare_entry("Linear modal reference", "true", Patterns::Bool(),
                       "Add the linear modal analysis response at the static state (dense eigenproblem, up "
                       "to 3000 free unknowns) to the curve's CSV and plot.");
@@ -71,9 +58,7 @@ namespace nlmech
                       "state and compared with the HBM state [rad/s]; empty: no check (it often costs more "
                       "than the frequency response). Oscillators start from rest, other models from the "
                       "HBM state.");
-    prm.declare_entry("Steps per period", "1024", Patterns::Integer(16), "[-].");
-    prm.declare_entry("Period tolerance", "1e-8", Patterns::Double(0),
-                      "e_p of thesis eq. (2.5.1), relative [-].");
+    NewmarkSettings::declare_parameters(prm);
     prm.declare_entry("Tolerance", "1e-3", Patterns::Double(0),
                       "Largest difference between the HBM and the Newmark trajectory of the tracked "
                       "unknown, relative to its half range; above it (or when Newmark reaches no "
@@ -98,25 +83,14 @@ namespace nlmech
                     harmonic_balance.n_samples >= 2 * harmonic_balance.n_harmonics + 1,
                 ExcMessage("Time samples (N_AFT = " + std::to_string(samples) +
                            ") must be at least 2 N_H + 1 = " + std::to_string(2 * harmonics + 1) + "."));
-    const auto range = parse_number_list(prm.get("Frequency range"), "Frequency range");
-    AssertThrow(range.size() == 2 && range[0] > 0 && range[1] > 0 && range[0] != range[1],
-                ExcMessage("Frequency range needs two different positive frequencies [rad/s]."));
-    continuation.omega_start = range[0], continuation.omega_end = range[1];
-    continuation.max_step           = prm.get_double("Maximum step");
-    continuation.max_amplitude      = prm.get_double("Maximum amplitude");
-    continuation.relative_tolerance = prm.get_double("Tolerance");
-    continuation.max_points         = unsigned(prm.get_integer("Maximum points"));
-    trace_curve                     = prm.get_bool("Frequency response");
+    continuation.parse_parameters(prm);
+    trace_curve            = prm.get_bool("Frequency response");
     evaluation_frequencies = parse_number_list(prm.get("Evaluation frequencies"), "Evaluation frequencies");
     for (const double w : evaluation_frequencies)
       AssertThrow(w > 0, ExcMessage("Evaluation frequencies must be positive [rad/s]."));
-    linear_reference         = prm.get_bool("Linear modal reference");
-    const std::string method = prm.get("Stability");
-    continuation.stability   = method == "floquet" ? StabilityMethod::floquet
-                               : method == "none"  ? StabilityMethod::none
-                                                   : StabilityMethod::hill;
-    adaptive_threshold       = prm.get_double("Adaptive harmonics");
-    adaptive_frequency       = prm.get_double("Adaptive frequency");
+    linear_reference   = prm.get_bool("Linear modal reference");
+    adaptive_threshold = prm.get_double("Adaptive harmonics");
+    adaptive_frequency = prm.get_double("Adaptive frequency");
     prm.leave_subsection();
     prm.enter_subsection("Backbone");
     backbone_amplitudes = parse_number_list(prm.get("Amplitudes"), "Backbone amplitudes");
@@ -129,9 +103,8 @@ namespace nlmech
     check_frequencies = parse_number_list(prm.get("Frequencies"), "Frequencies");
     for (const double w : check_frequencies)
       AssertThrow(w > 0, ExcMessage("Newmark check frequencies must be positive."));
-    newmark.steps_per_period = unsigned(prm.get_integer("Steps per period"));
-    newmark.period_tolerance = prm.get_double("Period tolerance");
-    newmark_tolerance        = prm.get_double("Tolerance");
+    newmark.parse_parameters(prm);
+    newmark_tolerance = prm.get_double("Tolerance");
     prm.leave_subsection();
   }
 } // namespace nlmech

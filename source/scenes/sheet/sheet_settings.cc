@@ -53,36 +53,11 @@ namespace nlmech
     prm.declare_entry("Schemes", "SAR", Patterns::Anything(),
                       "One or more of IE, SAP, SAR, BDF2, BAP, BAR, each run from the same start; "
                       "the first one's frames go to VTU.");
-    prm.declare_entry("Time step", "0.0166666666667", Patterns::Double(0), "[s]");
     prm.declare_entry("End time", "2", Patterns::Double(0), "[s]");
     prm.declare_entry("Frames", "40", Patterns::Integer(0), "VTU frames of the first scheme [-].");
-    prm.declare_entry("Newton tolerance", "1e-8", Patterns::Double(0),
-                      "Relative gradient norm of the implicit steps [-].");
-    prm.declare_entry("Newton velocity tolerance", "1e-4", Patterns::Double(0),
-                      "Also converged when a full Newton step moves no vertex faster than this "
-                      "(|dx|_inf / time step); 0: the gradient criterion only [m/s].");
-    prm.declare_entry("Area barrier", "0.1", Patterns::Double(0, 0.99),
-                      "Triangles crushed below this fraction of their rest area meet a log "
-                      "barrier (St.Venant-Kirchhoff alone lets a soft sheet collapse triangles, "
-                      "which stalls Newton); 0: none [-].");
-    prm.declare_entry("Newton Hessian", "projected", Patterns::Selection("projected|exact"),
-                      "projected: every element's Hessian block is projected to positive "
-                      "semi-definite (robust when the sheet wrinkles under compression); exact: "
-                      "the true Hessian, shifted by a multiple of the identity where indefinite.");
-    prm.declare_entry("Projection tolerance", "1e-9", Patterns::Double(0),
-                      "Residuals and gap of the interior-point projection (relative) [-].");
-    prm.declare_entry("Projection iterations", "100", Patterns::Integer(1),
-                      "Interior-point iterations per cone problem before the projection (and its "
-                      "scheme) is given up [-].");
+    ConicSettings::declare_parameters(prm);
     prm.leave_subsection();
-    prm.enter_subsection("Collisions");
-    prm.declare_entry("Sphere stiffness", "0", Patterns::Double(0),
-                      "Penalty k/2 depth^2 per vertex against the sphere; 0: no sphere [N/m].");
-    prm.declare_entry("Sphere center", "0.25, -0.2, 0.25", Patterns::Anything(), "[m]");
-    prm.declare_entry("Sphere radius", "0.12", Patterns::Double(0), "[m]");
-    prm.declare_entry("Ground stiffness", "0", Patterns::Double(0), "0: no ground [N/m].");
-    prm.declare_entry("Ground height", "-1", Patterns::Double(), "[m]");
-    prm.leave_subsection();
+    ClothSettings::declare_parameters(prm);
   }
 
   void BiphasicSheetSettings::parse_parameters(ParameterHandler &prm)
@@ -132,30 +107,13 @@ namespace nlmech
     for (const auto &name : Utilities::split_string_list(prm.get("Schemes"), ','))
       schemes.push_back(parse_cloth_scheme(name));
     AssertThrow(!schemes.empty(), ExcMessage("Time stepping: name at least one scheme."));
-    settings.time_step                  = prm.get_double("Time step");
-    end_time                            = prm.get_double("End time");
-    frames                              = unsigned(prm.get_integer("Frames"));
-    settings.newton_tolerance           = prm.get_double("Newton tolerance");
-    settings.project_element_hessians   = prm.get("Newton Hessian") == "projected";
-    settings.newton_velocity_tolerance  = prm.get_double("Newton velocity tolerance");
-    settings.area_barrier               = prm.get_double("Area barrier");
-    cone_settings.feasibility_tolerance = cone_settings.gap_tolerance =
-        prm.get_double("Projection tolerance");
-    cone_settings.max_iterations = unsigned(prm.get_integer("Projection iterations"));
+    end_time = prm.get_double("End time");
+    frames   = unsigned(prm.get_integer("Frames"));
+    cone_settings.parse_parameters(prm);
+    prm.leave_subsection();
+    settings.parse_parameters(prm);
     AssertThrow(settings.time_step > 0 && end_time >= settings.time_step,
                 ExcMessage("Time stepping: needs a positive time step no longer than the end time."));
-    prm.leave_subsection();
-    prm.enter_subsection("Collisions");
-    settings.sphere_stiffness = prm.get_double("Sphere stiffness");
-    settings.sphere           = settings.sphere_stiffness > 0;
-    const auto c              = parse_number_list(prm.get("Sphere center"), "Sphere center");
-    AssertThrow(c.size() == 3, ExcMessage("Sphere center needs three coordinates."));
-    settings.sphere_center    = {{c[0], c[1], c[2]}};
-    settings.sphere_radius    = prm.get_double("Sphere radius");
-    settings.ground_stiffness = prm.get_double("Ground stiffness");
-    settings.ground           = settings.ground_stiffness > 0;
-    settings.ground_height    = prm.get_double("Ground height");
-    prm.leave_subsection();
     // The limit formula, checked once here (b >= 1 and finite at every sampled direction).
     // deal.II's parser parses on first use and reports to std::cerr: silenced, one clear error.
     limit_function = std::make_shared<FunctionParser<1>>(1);

@@ -2,6 +2,9 @@
 // tangent of the bordered system, corrector, step control through folds, resonance peaks refined
 // on the curve, stability of every point (continuation.h).
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <nlmech/base/parse.h>
 
 #include <nlmech/solvers/hbm/continuation.h>
 
@@ -51,6 +54,41 @@ namespace nlmech
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
   } // namespace
+
+  void ContinuationSettings::declare_parameters(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii;
+    prm.declare_entry("Frequency range", "0.5, 2.5", Patterns::Anything(),
+                      "Start and end of the frequency-response curve [rad/s].");
+    prm.declare_entry("Maximum step", "0.05", Patterns::Double(0), "Largest continuation step (scaled) [-].");
+    prm.declare_entry("Maximum amplitude", "100", Patterns::Double(0),
+                      "Stop the curve (partial result) beyond this half range [m].");
+    prm.declare_entry("Tolerance", "1e-9", Patterns::Double(0), "|h| relative to the force scale [-].");
+    prm.declare_entry("Maximum points", "2000", Patterns::Integer(1),
+                      "Largest number of points on the frequency-response curve; beyond it the curve "
+                      "stops (partial result) [-].");
+    prm.declare_entry("Stability", "hill", Patterns::Selection("hill|floquet|none"),
+                      "Stability of every point: hill (Hill's method: the Floquet exponents from the HBM "
+                      "Jacobian by ARPACK's shift-and-invert Arnoldi, reusing the continuation's "
+                      "factorisation; any size), floquet (monodromy matrix by RK4, dense: a time-domain "
+                      "cross-check for models of up to a few dozen free unknowns) or none.");
+  }
+
+  void ContinuationSettings::parse_parameters(const dealii::ParameterHandler &prm)
+  {
+    const auto range = parse_number_list(prm.get("Frequency range"), "Frequency range");
+    AssertThrow(range.size() == 2 && range[0] > 0 && range[1] > 0 && range[0] != range[1],
+                dealii::ExcMessage("Frequency range needs two different positive frequencies [rad/s]."));
+    omega_start = range[0], omega_end = range[1];
+    max_step                 = prm.get_double("Maximum step");
+    max_amplitude            = prm.get_double("Maximum amplitude");
+    relative_tolerance       = prm.get_double("Tolerance");
+    max_points               = unsigned(prm.get_integer("Maximum points"));
+    const std::string method = prm.get("Stability");
+    stability                = method == "floquet" ? StabilityMethod::floquet
+                               : method == "none"  ? StabilityMethod::none
+                                                   : StabilityMethod::hill;
+  }
 
   PseudoArclengthContinuation::PseudoArclengthContinuation(const HarmonicBalance      &hb,
                                                            const ContinuationSettings &settings)
@@ -226,7 +264,7 @@ namespace nlmech
             const HillResult h = std::abs(p.tomega) > 0
                                      ? hill_stability(hb, p.z, p.omega, solve, 1e-6, 400, hill_request)
                                      : hill_stability(hb, p.z, p.omega, {}, 1e-6, 400, hill_request);
-            hill_request = h.determined ? h.within_radius + 8 : 0;
+            hill_request       = h.determined ? h.within_radius + 8 : 0;
             r.stable = h.determined ? int(h.stable) : -1, r.max_multiplier = h.max_multiplier;
             r.hill = true;
           }

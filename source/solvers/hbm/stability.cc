@@ -108,18 +108,18 @@ namespace nlmech
     // many while the smallest one it returns still lies within the radius.
     const Eigen::Index cap     = std::min<Eigen::Index>(dim, max_krylov_dimension);
     const Eigen::Index largest = (cap - 1) / 2; // so that the basis holds 2 nev + 1 vectors
-    Eigen::Index       nev     = std::min<Eigen::Index>(first_request > 0 ? Eigen::Index(first_request) : 24, largest);
+    Eigen::Index nev = std::min<Eigen::Index>(first_request > 0 ? Eigen::Index(first_request) : 24, largest);
     std::vector<std::complex<double>> thetas;
     HillResult                        result;
     while (nev >= 1)
       {
         ArpackSettings as;
-        as.n_eigenvalues         = unsigned(nev);
-        as.n_arnoldi             = unsigned(2 * nev + 1);
-        as.tolerance             = 1e-12;
-        const ArpackResult r     = largest_eigenvalues(apply, unsigned(dim), as);
-        result.krylov_dimension  = r.n_arnoldi;
-        result.requested         = unsigned(nev);
+        as.n_eigenvalues        = unsigned(nev);
+        as.n_arnoldi            = unsigned(2 * nev + 1);
+        as.tolerance            = 1e-12;
+        const ArpackResult r    = largest_eigenvalues(apply, unsigned(dim), as);
+        result.krylov_dimension = r.n_arnoldi;
+        result.requested        = unsigned(nev);
         result.operator_products += r.products;
         thetas                   = r.eigenvalues;
         const bool all_converged = r.n_converged >= unsigned(nev);

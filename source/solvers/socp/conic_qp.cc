@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parallel.h>
+#include <deal.II/base/parameter_handler.h>
 
 #include <nlmech/base/threads.h>
 #include <nlmech/solvers/socp/conic_qp.h>
@@ -14,6 +15,21 @@
 
 namespace nlmech
 {
+  void ConicSettings::declare_parameters(dealii::ParameterHandler &prm)
+  {
+    prm.declare_entry("Projection tolerance", "1e-9", dealii::Patterns::Double(0),
+                      "Residuals and gap of the interior-point projection (relative) [-].");
+    prm.declare_entry("Projection iterations", "100", dealii::Patterns::Integer(1),
+                      "Interior-point iterations per cone problem before the projection (and its "
+                      "scheme) is given up [-].");
+  }
+
+  void ConicSettings::parse_parameters(const dealii::ParameterHandler &prm)
+  {
+    feasibility_tolerance = gap_tolerance = prm.get_double("Projection tolerance");
+    max_iterations                        = unsigned(prm.get_integer("Projection iterations"));
+  }
+
   namespace
   {
     using Clock = std::chrono::steady_clock;

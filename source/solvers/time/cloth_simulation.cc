@@ -1,4 +1,7 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <nlmech/base/parse.h>
 
 #include <nlmech/solvers/newton/newton_solver.h>
 #include <nlmech/solvers/time/cloth_simulation.h>
@@ -11,6 +14,57 @@
 
 namespace nlmech
 {
+  void ClothSettings::declare_parameters(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii;
+    prm.enter_subsection("Time stepping");
+    prm.declare_entry("Time step", "0.0166666666667", Patterns::Double(0), "[s]");
+    prm.declare_entry("Newton tolerance", "1e-8", Patterns::Double(0),
+                      "Relative gradient norm of the implicit steps [-].");
+    prm.declare_entry("Newton velocity tolerance", "1e-4", Patterns::Double(0),
+                      "Also converged when a full Newton step moves no vertex faster than this "
+                      "(|dx|_inf / time step); 0: the gradient criterion only [m/s].");
+    prm.declare_entry("Area barrier", "0.1", Patterns::Double(0, 0.99),
+                      "Triangles crushed below this fraction of their rest area meet a log "
+                      "barrier (St.Venant-Kirchhoff alone lets a soft sheet collapse triangles, "
+                      "which stalls Newton); 0: none [-].");
+    prm.declare_entry("Newton Hessian", "projected", Patterns::Selection("projected|exact"),
+                      "projected: every element's Hessian block is projected to positive "
+                      "semi-definite (robust when the sheet wrinkles under compression); exact: "
+                      "the true Hessian, shifted by a multiple of the identity where indefinite.");
+    prm.leave_subsection();
+    prm.enter_subsection("Collisions");
+    prm.declare_entry("Sphere stiffness", "0", Patterns::Double(0),
+                      "Penalty k/2 depth^2 per vertex against the sphere; 0: no sphere [N/m].");
+    prm.declare_entry("Sphere center", "0.25, -0.2, 0.25", Patterns::Anything(), "[m]");
+    prm.declare_entry("Sphere radius", "0.12", Patterns::Double(0), "[m]");
+    prm.declare_entry("Ground stiffness", "0", Patterns::Double(0), "0: no ground [N/m].");
+    prm.declare_entry("Ground height", "-1", Patterns::Double(), "[m]");
+    prm.leave_subsection();
+  }
+
+  void ClothSettings::parse_parameters(dealii::ParameterHandler &prm)
+  {
+    prm.enter_subsection("Time stepping");
+    time_step                 = prm.get_double("Time step");
+    newton_tolerance          = prm.get_double("Newton tolerance");
+    project_element_hessians  = prm.get("Newton Hessian") == "projected";
+    newton_velocity_tolerance = prm.get_double("Newton velocity tolerance");
+    area_barrier              = prm.get_double("Area barrier");
+    prm.leave_subsection();
+    prm.enter_subsection("Collisions");
+    sphere_stiffness = prm.get_double("Sphere stiffness");
+    sphere           = sphere_stiffness > 0;
+    const auto c     = parse_number_list(prm.get("Sphere center"), "Sphere center");
+    AssertThrow(c.size() == 3, dealii::ExcMessage("Sphere center needs three coordinates."));
+    sphere_center    = {{c[0], c[1], c[2]}};
+    sphere_radius    = prm.get_double("Sphere radius");
+    ground_stiffness = prm.get_double("Ground stiffness");
+    ground           = ground_stiffness > 0;
+    ground_height    = prm.get_double("Ground height");
+    prm.leave_subsection();
+  }
+
   namespace
   {
     double since(std::chrono::steady_clock::time_point t0)

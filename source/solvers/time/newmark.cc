@@ -1,6 +1,7 @@
 // Newmark (beta = 1/4, gamma = 1/2) on the harmonic-balance system's equations of motion, to the
 // periodic steady state by the period-difference criterion (thesis 2.5.1): the time-domain check.
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
 
 #include <nlmech/solvers/hbm/periodic_solvers.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
@@ -13,6 +14,19 @@
 
 namespace nlmech
 {
+  void NewmarkSettings::declare_parameters(dealii::ParameterHandler &prm)
+  {
+    prm.declare_entry("Steps per period", "1024", dealii::Patterns::Integer(16), "[-].");
+    prm.declare_entry("Period tolerance", "1e-8", dealii::Patterns::Double(0),
+                      "e_p of thesis eq. (2.5.1), relative [-].");
+  }
+
+  void NewmarkSettings::parse_parameters(const dealii::ParameterHandler &prm)
+  {
+    steps_per_period = unsigned(prm.get_integer("Steps per period"));
+    period_tolerance = prm.get_double("Period tolerance");
+  }
+
   namespace
   {
     constexpr double pi = 3.14159265358979323846;

@@ -16,6 +16,11 @@
 #include <string>
 #include <vector>
 
+namespace dealii
+{
+  class ParameterHandler;
+}
+
 namespace nlmech
 {
   struct PeriodicSolveSettings
@@ -65,14 +70,14 @@ namespace nlmech
 
   struct HillResult
   {
-    bool         determined       = false; // every exponent within the radius converged
-    bool         stable           = false; // max Re lambda T <= log(1 + tolerance)
-    double       max_real_part    = 0;     // largest Re lambda found [1/s]
-    double       max_multiplier   = 0;     // exp(max_real_part T), comparable with Floquet's |mu|
-    unsigned int krylov_dimension  = 0; // ARPACK's basis in the last attempt (the dimension if dense)
-    unsigned int requested         = 0; // eigenvalues ARPACK was asked for in the last attempt
-    unsigned int operator_products = 0; // solves with the Jacobian over all attempts
-    unsigned int within_radius     = 0; // eigenvalues found with |lambda| < w
+    bool         determined        = false; // every exponent within the radius converged
+    bool         stable            = false; // max Re lambda T <= log(1 + tolerance)
+    double       max_real_part     = 0;     // largest Re lambda found [1/s]
+    double       max_multiplier    = 0;     // exp(max_real_part T), comparable with Floquet's |mu|
+    unsigned int krylov_dimension  = 0;     // ARPACK's basis in the last attempt (the dimension if dense)
+    unsigned int requested         = 0;     // eigenvalues ARPACK was asked for in the last attempt
+    unsigned int operator_products = 0;     // solves with the Jacobian over all attempts
+    unsigned int within_radius     = 0;     // eigenvalues found with |lambda| < w
     /// Converged Floquet exponents in the fundamental strip |Im lambda| <= w/2 within the radius.
     std::vector<std::complex<double>> exponents;
   };
@@ -120,6 +125,11 @@ namespace nlmech
     StabilityMethod          stability = StabilityMethod::hill;
     /// Called after every point with (fraction of the frequency range done).
     std::function<void(double)> progress;
+
+    /// "Frequency range", "Maximum step", "Maximum amplitude", "Tolerance", "Maximum points" and
+    /// "Stability" in the current subsection.
+    static void declare_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(const dealii::ParameterHandler &prm);
   };
 
   struct ResponsePoint

@@ -36,6 +36,11 @@
 #include <string>
 #include <vector>
 
+namespace dealii
+{
+  class ParameterHandler;
+}
+
 namespace nlmech
 {
   struct ConicQP
@@ -108,6 +113,11 @@ namespace nlmech
     /// 0.6 ms, a simplicial one 0.1 ms; from 40x40 on the supernodal one is chosen and faster.
     ConicFactorization factorization = ConicFactorization::automatic;
     ConicMethod        method        = ConicMethod::automatic;
+
+    /// "Projection tolerance" (residuals and gap) and "Projection iterations" in the current
+    /// subsection.
+    static void declare_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(const dealii::ParameterHandler &prm);
   };
 
   struct ConicResult

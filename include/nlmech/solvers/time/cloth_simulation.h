@@ -24,6 +24,11 @@
 #include <memory>
 #include <string>
 
+namespace dealii
+{
+  class ParameterHandler;
+}
+
 namespace nlmech
 {
   enum class ClothScheme
@@ -61,6 +66,12 @@ namespace nlmech
     /// Implicit steps' Newton on element Hessians projected to positive semi-definite (true), or on
     /// the exact Hessian with a global diagonal shift where it is indefinite (false).
     bool project_element_hessians = true;
+
+    /// The implicit steps' entries in subsection "Time stepping" ("Time step", "Newton tolerance",
+    /// "Newton velocity tolerance", "Area barrier", "Newton Hessian") and the penalty obstacles
+    /// in "Collisions"; entered here from the top level.
+    static void declare_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(dealii::ParameterHandler &prm);
   };
 
   struct ClothStepStatistics

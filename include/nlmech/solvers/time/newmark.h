@@ -7,6 +7,11 @@
 
 #include <Eigen/Dense>
 
+namespace dealii
+{
+  class ParameterHandler;
+}
+
 namespace nlmech
 {
   struct NewmarkSettings
@@ -15,6 +20,10 @@ namespace nlmech
     double       period_tolerance = 1e-7; // e_p of (2.5.1), relative to the trajectory's size
     unsigned int max_periods      = 10000;
     double       newton_tolerance = 1e-12; // relative
+
+    /// "Steps per period" and "Period tolerance" in the current subsection.
+    static void declare_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(const dealii::ParameterHandler &prm);
   };
 
   struct NewmarkResult
