@@ -3,7 +3,7 @@
 # Safe to run repeatedly; needs root (or sudo) the first time.
 set -euo pipefail
 packages=(
-  cmake make g++ ccache pkg-config libgtest-dev clang-format
+  cmake make ninja-build lld g++ ccache pkg-config libgtest-dev clang-format
   libdeal.ii-dev        # deal.II 9.4: brings Trilinos 13.2, SUNDIALS, METIS, p4est, UMFPACK, MPI
   libgmsh-dev gmsh      # gmsh C++ API for meshing .geo sources
   libeigen3-dev libfftw3-dev libsuitesparse-dev

@@ -18,12 +18,14 @@ start=$(date +%s.%N)
 rc=$?
 end=$(date +%s.%N)
 src="?"
-for a in "$@"; do case "$a" in *.cc|*.cpp) src="$a";; esac; done
+for a in "$@"; do case "$a" in *.cc|*.cpp|*.cxx) src="$a";; esac; done
 echo "$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }') $src" >> "$(dirname "$0")/unit-times.txt"
 exit $rc
 LAUNCHER
 chmod +x "$build/timed-compile.sh"
-cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER="$build/timed-compile.sh" \
+generator=()
+if command -v ninja > /dev/null; then generator=(-G Ninja); fi # as contrib/setup/build.sh
+cmake -S "$here" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER="$build/timed-compile.sh" \
   > "$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; exit 1; }
 start=$(date +%s)
 cmake --build "$build" -j "$(nproc)" > "$build/build.log" 2>&1 || { tail -30 "$build/build.log" >&2; exit 1; }

@@ -2,6 +2,7 @@
 // steady state at chosen frequencies against the HBM state there (thesis 2.5.1).
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/numbers.h>
 
 #include <nlmech/base/atomic_output.h>
 #include <nlmech/base/json.h>
@@ -18,7 +19,6 @@ namespace nlmech
 
   namespace
   {
-    constexpr double pi = 3.14159265358979323846;
   } // namespace
 
   /// HBM state reached from rest (Newton from the linear response) against Newmark from rest.
@@ -72,7 +72,8 @@ namespace nlmech
                   double s = 0, c = 0;
                   for (unsigned int j = 0; j < t.size(); ++j)
                     {
-                      const double th = 2 * pi * j / t.size(), x = nm.last_period(hb.free()[i], j);
+                      const double th = 2 * dealii::numbers::PI * j / t.size(),
+                                   x  = nm.last_period(hb.free()[i], j);
                       s += x * std::sin(kk * th), c += x * std::cos(kk * th);
                     }
                   if (kk == 0)
@@ -86,7 +87,7 @@ namespace nlmech
           }
         std::vector<double> t(settings.newmark.steps_per_period);
         for (unsigned int j = 0; j < t.size(); ++j)
-          t[j] = 2 * pi / w * j / t.size();
+          t[j] = 2 * dealii::numbers::PI / w * j / t.size();
         const Eigen::MatrixXd x    = hb.positions_at(z, w, t);
         const double          size = hb.half_range(z, w, tracked);
         const double diff = (x.row(tracked) - nm.last_period.row(tracked)).lpNorm<Eigen::Infinity>() / size;

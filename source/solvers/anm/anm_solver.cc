@@ -1,3 +1,4 @@
+#include <nlmech/base/stopwatch.h>
 #include <nlmech/solvers/anm/anm_solver.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
 #include <nlmech/solvers/newton/newton_solver.h>
@@ -18,10 +19,6 @@ namespace nlmech
   namespace
   {
     using Clock = std::chrono::steady_clock;
-    double seconds_since(Clock::time_point start)
-    {
-      return std::chrono::duration<double>(Clock::now() - start).count();
-    }
 
     /// sum_k c[k] a^k
     template <typename V>

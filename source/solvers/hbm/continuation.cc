@@ -5,6 +5,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <nlmech/base/parse.h>
+#include <nlmech/base/stopwatch.h>
 
 #include <nlmech/solvers/hbm/continuation.h>
 
@@ -44,14 +45,6 @@ namespace nlmech
       B.innerIndexPtr()[k] = int(n), B.valuePtr()[k++] = row_omega;
       B.outerIndexPtr()[n + 1] = int(k);
       return B;
-    }
-  } // namespace
-
-  namespace
-  {
-    double seconds_since(const std::chrono::steady_clock::time_point t0)
-    {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
   } // namespace
 

@@ -1,3 +1,4 @@
+#include <nlmech/base/stopwatch.h>
 #include <nlmech/base/threads.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
 
@@ -7,13 +8,6 @@
 
 namespace nlmech
 {
-  namespace
-  {
-    double seconds_since(std::chrono::steady_clock::time_point start)
-    {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
-  } // namespace
 
   SparseFactorization::SparseFactorization()
   {

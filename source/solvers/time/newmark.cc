@@ -1,6 +1,7 @@
 // Newmark (beta = 1/4, gamma = 1/2) on the harmonic-balance system's equations of motion, to the
 // periodic steady state by the period-difference criterion (thesis 2.5.1): the time-domain check.
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/numbers.h>
 #include <deal.II/base/parameter_handler.h>
 
 #include <nlmech/solvers/hbm/periodic_solvers.h>
@@ -29,7 +30,6 @@ namespace nlmech
 
   namespace
   {
-    constexpr double pi = 3.14159265358979323846;
   } // namespace
 
   NewmarkResult newmark_steady_state(const HarmonicBalance &hb, const double omega, const Eigen::VectorXd &x0,
@@ -38,7 +38,7 @@ namespace nlmech
     const auto               start = std::chrono::steady_clock::now();
     const double             beta = 0.25, gamma = 0.5;
     const unsigned           S     = settings.steps_per_period;
-    const double             dt    = 2 * pi / omega / S;
+    const double             dt    = 2 * dealii::numbers::PI / omega / S;
     const std::size_t        n     = hb.n_free();
     const Eigen::VectorXd   &m     = hb.free_mass();
     const double             alpha = hb.parameters().rayleigh_mass;
@@ -123,7 +123,7 @@ namespace nlmech
         previous = this_period;
       }
     for (unsigned int s = 0; s < S; ++s)
-      result.last_period.col(s) = hb.full(this_period.col(s), 2 * pi * s / S);
+      result.last_period.col(s) = hb.full(this_period.col(s), 2 * dealii::numbers::PI * s / S);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   }
