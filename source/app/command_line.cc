@@ -2,6 +2,7 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/multithread_info.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/utilities.h>
 
@@ -26,7 +27,9 @@ namespace nlmech
         "usage: nlmech FILE.prm [--output-directory DIR]   run the scene named in FILE.prm\n"
         "       nlmech --validate FILE.prm                 parse and check FILE.prm only\n"
         "       nlmech --print-parameters SCENE            print SCENE's documented parameters\n"
-        "       nlmech --list-scenes                       list the registered scenes\n";
+        "       nlmech --list-scenes                       list the registered scenes\n"
+        "       --threads N (anywhere)                     at most N threads per MPI rank (default: every "
+        "core)\n";
 
     std::string trim(const std::string &s)
     {
@@ -98,9 +101,12 @@ namespace nlmech
           output.create();
           RunContext context(comm, output);
           context.pcout << "nlmech: scene <" << run.scene_name << "> from " << file << " on "
-                        << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)" << std::endl;
+                        << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s) x "
+                        << MultithreadInfo::n_threads() << " thread(s)" << std::endl;
           context.summary.add_string("scene", run.scene_name);
           context.summary.add_string("parameter_file", file);
+          context.summary.add_number("mpi_ranks", Utilities::MPI::n_mpi_processes(comm));
+          context.summary.add_number("threads_per_rank", MultithreadInfo::n_threads());
           run.scene->run(context);
           const bool partial       = !context.partial_reason.empty(),
                      checks_failed = !context.failed_checks.empty();
@@ -166,6 +172,39 @@ namespace nlmech
           }
       }
     return "";
+  }
+
+  unsigned int take_thread_option(int &argc, char **argv)
+  {
+    unsigned int threads = numbers::invalid_unsigned_int;
+    int          kept    = 1;
+    for (int i = 1; i < argc; ++i)
+      {
+        const std::string arg = argv[i];
+        if (arg != "--threads")
+          {
+            argv[kept++] = argv[i];
+            continue;
+          }
+        AssertThrow(i + 1 < argc, ExcMessage("--threads needs a number of threads."));
+        const std::string value = argv[++i];
+        std::size_t       used  = 0;
+        long              n     = 0;
+        try
+          {
+            n = std::stol(value, &used);
+          }
+        catch (const std::exception &)
+          {
+            used = 0;
+          }
+        AssertThrow(used == value.size() && n >= 1 && n <= 4096,
+                    ExcMessage("--threads expects a positive whole number, not <" + value + ">."));
+        threads = static_cast<unsigned int>(n);
+      }
+    argc       = kept;
+    argv[argc] = nullptr;
+    return threads;
   }
 
   int run_command_line(int argc, char **argv, MPI_Comm comm)

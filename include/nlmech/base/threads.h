@@ -1,6 +1,13 @@
 #pragma once
 // Thread policy: parallelism is MPI ranks plus deal.II's (TBB) task threads; libraries underneath
-// stay serial.
+// stay serial. Loops over elements run in fixed blocks, so that what they compute, and the order
+// in which it is summed, does not depend on the number of threads.
+
+#include <deal.II/base/multithread_info.h>
+#include <deal.II/base/parallel.h>
+
+#include <algorithm>
+#include <cstddef>
 
 namespace nlmech
 {
@@ -11,4 +18,21 @@ namespace nlmech
   /// factorisation of the strain-limiting normal matrix (60x60 sheet) 1.4x slower. Idempotent,
   /// cheap; called by the command line and by the solvers that factorise with CHOLMOD.
   void serialise_openmp();
+
+  /// Calls work(begin, end) for the blocks [0, b), [b, 2b), ... of [0, n), on deal.II's task
+  /// threads when there is more than one block and more than one thread. The blocks are the same
+  /// for every thread count; work must only write what belongs to its own block.
+  template <typename Work>
+  void for_each_block(const std::size_t n, const std::size_t block_size, const Work &work)
+  {
+    const std::size_t n_blocks = (n + block_size - 1) / block_size;
+    auto              blocks   = [&](const std::size_t first, const std::size_t last) {
+      for (std::size_t b = first; b < last; ++b)
+        work(b * block_size, std::min(n, (b + 1) * block_size));
+    };
+    if (n_blocks <= 1 || dealii::MultithreadInfo::n_threads() == 1)
+      blocks(0, n_blocks);
+    else
+      dealii::parallel::apply_to_subranges(std::size_t(0), n_blocks, blocks, 1);
+  }
 } // namespace nlmech

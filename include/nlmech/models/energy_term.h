@@ -4,7 +4,7 @@
 // state valid, how far can a step go). ElementEnergyTerm writes an element's energy once, as a
 // template on the scalar type, and derives gradient and Hessian by forward AD (Trilinos Sacado).
 
-#include <deal.II/base/parallel.h>
+#include <nlmech/base/threads.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Sparse>
@@ -80,7 +80,8 @@ namespace nlmech
   };
 
   /// Whether an element type brings its own ANM series kernel
-  /// add_gradient_series_coefficient(path, k, e, out).
+  /// add_gradient_series_coefficient(path, k, e, local) (local: the element's N-vector, in its
+  /// own dof numbering) and prepare_series() (called once, on one thread, before the loop).
   template <typename Element, typename = void>
   struct has_series_kernel : std::false_type
   {
@@ -89,7 +90,7 @@ namespace nlmech
   struct has_series_kernel<
       Element, std::void_t<decltype(std::declval<const Element &>().add_gradient_series_coefficient(
                    std::declval<const std::vector<Eigen::VectorXd> &>(), 0u, std::size_t(0),
-                   std::declval<Eigen::VectorXd &>()))>> : std::true_type
+                   std::declval<std::array<double, Element::n_dofs> &>()))>> : std::true_type
   {
   };
 
@@ -119,24 +120,30 @@ namespace nlmech
 
     double value(const Eigen::VectorXd &x) const override
     {
+      // Element values first (on threads), then summed in element order: the same total for
+      // every thread count.
+      std::vector<double> values(element.n_elements());
+      for_each_block(values.size(), block_size, [&](const std::size_t begin, const std::size_t end) {
+        for (std::size_t e = begin; e < end; ++e)
+          values[e] = element.energy(gather<double>(x, e), e);
+      });
       double total = 0;
-      for (std::size_t e = 0; e < element.n_elements(); ++e)
-        total += element.energy(gather<double>(x, e), e);
+      for (const double v : values)
+        total += v;
       return total;
     }
 
     void add_gradient(const Eigen::VectorXd &x, Eigen::VectorXd &g) const override
     {
-      for (std::size_t e = 0; e < element.n_elements(); ++e)
-        {
-          const auto              dofs = element.dofs(e);
-          std::array<Gradient, N> local;
-          for (std::size_t i = 0; i < N; ++i)
-            local[i] = Gradient(N, i, x[dofs[i]]);
-          const Gradient energy = element.energy(local, e);
-          for (std::size_t i = 0; i < N; ++i)
-            g[dofs[i]] += energy.dx(i);
-        }
+      add_element_vectors(g, [&](const std::size_t e, std::array<double, N> &out) {
+        const auto              dofs = element.dofs(e);
+        std::array<Gradient, N> local;
+        for (std::size_t i = 0; i < N; ++i)
+          local[i] = Gradient(N, i, x[dofs[i]]);
+        const Gradient energy = element.energy(local, e);
+        for (std::size_t i = 0; i < N; ++i)
+          out[i] = energy.dx(i);
+      });
     }
 
     void add_hessian(const Eigen::VectorXd &x, Triplets &h) const override { element_hessians(x, h, false); }
@@ -151,20 +158,19 @@ namespace nlmech
     {
       using Direction = Sacado::Fad::SFad<double, 1>;
       using Outer     = Sacado::Fad::SFad<Direction, N>;
-      for (std::size_t e = 0; e < element.n_elements(); ++e)
-        {
-          const auto           dofs = element.dofs(e);
-          std::array<Outer, N> local;
-          for (std::size_t i = 0; i < N; ++i)
-            {
-              Direction xi(1, 0, x[dofs[i]]);
-              xi.fastAccessDx(0) = v[dofs[i]];
-              local[i]           = Outer(N, i, xi);
-            }
-          const Outer energy = element.energy(local, e);
-          for (std::size_t i = 0; i < N; ++i)
-            out[dofs[i]] += energy.dx(i).dx(0);
-        }
+      add_element_vectors(out, [&](const std::size_t e, std::array<double, N> &local_out) {
+        const auto           dofs = element.dofs(e);
+        std::array<Outer, N> local;
+        for (std::size_t i = 0; i < N; ++i)
+          {
+            Direction xi(1, 0, x[dofs[i]]);
+            xi.fastAccessDx(0) = v[dofs[i]];
+            local[i]           = Outer(N, i, xi);
+          }
+        const Outer energy = element.energy(local, e);
+        for (std::size_t i = 0; i < N; ++i)
+          local_out[i] = energy.dx(i).dx(0);
+      });
     }
 
     /// d(H(x) v)/dx as the Hessian of phi = dE(x + eps v)/deps, by nested forward AD.
@@ -202,8 +208,12 @@ namespace nlmech
                                          Eigen::VectorXd &out) const override
     {
       if constexpr (has_series_kernel<Element>::value)
-        for (std::size_t e = 0; e < element.n_elements(); ++e)
-          element.add_gradient_series_coefficient(path, k, e, out);
+        {
+          element.prepare_series();
+          add_element_vectors(out, [&](const std::size_t e, std::array<double, N> &local) {
+            element.add_gradient_series_coefficient(path, k, e, local);
+          });
+        }
       else
         add_gradient_series_coefficient_by_taylor_ad(path, k, out);
     }
@@ -213,21 +223,20 @@ namespace nlmech
     void add_gradient_series_coefficient_by_taylor_ad(const std::vector<Eigen::VectorXd> &path,
                                                       const unsigned int k, Eigen::VectorXd &out) const
     {
-      for (std::size_t e = 0; e < element.n_elements(); ++e)
-        {
-          const auto                    dofs = element.dofs(e);
-          std::array<SeriesGradient, N> local;
-          for (std::size_t i = 0; i < N; ++i)
-            {
-              Sacado::Tay::Taylor<double> xi(static_cast<int>(k));
-              for (unsigned int j = 0; j < k && j < path.size(); ++j)
-                xi.fastAccessCoeff(j) = path[j][dofs[i]];
-              local[i] = SeriesGradient(N, i, xi);
-            }
-          const SeriesGradient energy = element.energy(local, e);
-          for (std::size_t i = 0; i < N; ++i)
-            out[dofs[i]] += energy.dx(i).coeff(k);
-        }
+      add_element_vectors(out, [&](const std::size_t e, std::array<double, N> &local_out) {
+        const auto                    dofs = element.dofs(e);
+        std::array<SeriesGradient, N> local;
+        for (std::size_t i = 0; i < N; ++i)
+          {
+            Sacado::Tay::Taylor<double> xi(static_cast<int>(k));
+            for (unsigned int j = 0; j < k && j < path.size(); ++j)
+              xi.fastAccessCoeff(j) = path[j][dofs[i]];
+            local[i] = SeriesGradient(N, i, xi);
+          }
+        const SeriesGradient energy = element.energy(local, e);
+        for (std::size_t i = 0; i < N; ++i)
+          local_out[i] = energy.dx(i).coeff(k);
+      });
     }
 
     /// Element energies' local Hessian, for tests and hand-tuned kernels to compare against.
@@ -245,6 +254,9 @@ namespace nlmech
       return out;
     }
 
+    /// Elements per block of the threaded loops (a block is one task).
+    static constexpr std::size_t block_size = 256;
+
   private:
     /// Every element's N x N Hessian by forward-over-forward AD, on deal.II's threads (each
     /// element writes its own N^2 triplets); with `project`, each block with a negative eigenvalue
@@ -253,7 +265,7 @@ namespace nlmech
     {
       const std::size_t n_elem = element.n_elements(), first = h.size();
       h.resize(first + n_elem * N * N);
-      auto work = [&](const std::size_t begin, const std::size_t end) {
+      for_each_block(n_elem, block_size / 2, [&](const std::size_t begin, const std::size_t end) {
         for (std::size_t e = begin; e < end; ++e)
           {
             const auto             dofs = element.dofs(e);
@@ -272,11 +284,38 @@ namespace nlmech
                 h[first + e * N * N + i * N + j] =
                     Eigen::Triplet<double>(int(dofs[i]), int(dofs[j]), block(i, j));
           }
+      });
+    }
+
+    /// out += the element vectors local(e, v) (v zeroed before, in element numbering), computed
+    /// on deal.II's threads into a buffer and added in element order: bit for bit what one thread
+    /// computes.
+    template <typename Local>
+    void add_element_vectors(Eigen::VectorXd &out, const Local &local) const
+    {
+      const std::size_t n_elem = element.n_elements();
+      auto              add    = [&](const std::size_t e, const std::array<double, N> &v) {
+        const auto dofs = element.dofs(e);
+        for (std::size_t i = 0; i < N; ++i)
+          out[dofs[i]] += v[i];
       };
-      if (n_elem < 256)
-        work(0, n_elem);
-      else
-        dealii::parallel::apply_to_subranges(std::size_t(0), n_elem, work, 128);
+      if (n_elem <= block_size || dealii::MultithreadInfo::n_threads() == 1)
+        {
+          for (std::size_t e = 0; e < n_elem; ++e)
+            {
+              std::array<double, N> v{};
+              local(e, v);
+              add(e, v);
+            }
+          return;
+        }
+      std::vector<std::array<double, N>> buffer(n_elem); // value-initialised: zeros
+      for_each_block(n_elem, block_size, [&](const std::size_t begin, const std::size_t end) {
+        for (std::size_t e = begin; e < end; ++e)
+          local(e, buffer[e]);
+      });
+      for (std::size_t e = 0; e < n_elem; ++e)
+        add(e, buffer[e]);
     }
 
     template <typename S>

@@ -58,10 +58,9 @@ namespace nlmech
   }
 
   void HyperelasticTetElements::add_nodal_forces(const double (&P)[3][3], const std::size_t e,
-                                                 Eigen::VectorXd &out) const
+                                                 std::array<double, 12> &out) const
   {
     // dE/dx_{a,i} = V sum_l P_il Dinv[a-1][l] for a = 1..3; vertex 0 balances the others.
-    const auto  dofs = this->dofs(e);
     const auto &Dinv = rest_shape_inverse[e];
     for (int i = 0; i < 3; ++i)
       {
@@ -71,26 +70,34 @@ namespace nlmech
             double f = 0;
             for (int l = 0; l < 3; ++l)
               f += P[i][l] * Dinv[a - 1][l];
-            out[dofs[3 * a + i]] += volume[e] * f;
+            out[3 * a + i] += volume[e] * f;
             balance += volume[e] * f;
           }
-        out[dofs[i]] -= balance;
+        out[i] -= balance;
+      }
+  }
+
+  void HyperelasticTetElements::prepare_series() const
+  {
+    if (law != HyperelasticLaw::neo_hookean || !use_recurrences)
+      return;
+    if (cache.size() != tets.size() * cached_series * series_capacity)
+      {
+        cache.assign(tets.size() * cached_series * series_capacity, 0.0);
+        cached_order.assign(tets.size(), -1);
+        cached_origin.assign(tets.size(), nullptr);
       }
   }
 
   void
   HyperelasticTetElements::add_neo_hookean_series_by_recurrences(const std::vector<Eigen::VectorXd> &path,
                                                                  const unsigned int k, const std::size_t e,
-                                                                 Eigen::VectorXd &out) const
+                                                                 std::array<double, 12> &out) const
   {
     constexpr int N = series_capacity, Q = cached_series;
     AssertThrow(int(k) < N, dealii::ExcMessage("The ANM order is limited to 31."));
-    if (cache.size() != tets.size() * Q * N)
-      {
-        cache.assign(tets.size() * Q * N, 0.0);
-        cached_order.assign(tets.size(), -1);
-        cached_origin.assign(tets.size(), nullptr);
-      }
+    AssertThrow(cache.size() == tets.size() * Q * N,
+                dealii::ExcMessage("prepare_series() must be called before the recurrence kernel."));
     double      *c = &cache[e * Q * N];
     auto         F = [&](int ab) { return c + ab * N; };
     auto         C = [&](int ab) { return c + (9 + ab) * N; }; // cofactor matrix of F
@@ -173,7 +180,7 @@ namespace nlmech
 
   void HyperelasticTetElements::add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,
                                                                 const unsigned int k, const std::size_t e,
-                                                                Eigen::VectorXd &out) const
+                                                                std::array<double, 12> &out) const
   {
     if (law == HyperelasticLaw::neo_hookean && use_recurrences)
       {
@@ -220,18 +227,26 @@ namespace nlmech
 
   double HyperelasticTetTerm::min_jacobian(const Eigen::VectorXd &x) const
   {
-    const auto &el    = elements();
-    double      least = std::numeric_limits<double>::max();
-    for (std::size_t e = 0; e < el.n_elements(); ++e)
-      {
-        const auto             dofs = el.dofs(e);
-        std::array<double, 12> local;
-        for (int i = 0; i < 12; ++i)
-          local[i] = x[dofs[i]];
-        double F[3][3];
-        el.deformation_gradient(local, e, F);
-        least = std::min(least, HyperelasticTetElements::determinant(F));
-      }
+    const auto         &el = elements();
+    std::vector<double> least_per_block((el.n_elements() + block_size - 1) / block_size,
+                                        std::numeric_limits<double>::max());
+    for_each_block(el.n_elements(), block_size, [&](const std::size_t begin, const std::size_t end) {
+      double least = std::numeric_limits<double>::max();
+      for (std::size_t e = begin; e < end; ++e)
+        {
+          const auto             dofs = el.dofs(e);
+          std::array<double, 12> local;
+          for (int i = 0; i < 12; ++i)
+            local[i] = x[dofs[i]];
+          double F[3][3];
+          el.deformation_gradient(local, e, F);
+          least = std::min(least, HyperelasticTetElements::determinant(F));
+        }
+      least_per_block[begin / block_size] = least;
+    });
+    double least = std::numeric_limits<double>::max();
+    for (const double l : least_per_block)
+      least = std::min(least, l);
     return least;
   }
 
@@ -279,28 +294,37 @@ namespace nlmech
   double HyperelasticTetTerm::first_inversion_along_series(const std::vector<Eigen::VectorXd> &path,
                                                            const double                        a_max) const
   {
-    using Series              = TruncatedSeries<32>;
-    const auto         &el    = elements();
-    const int           n     = std::min<int>(path.size() - 1, Series::capacity - 1);
-    double              first = a_max;
-    std::vector<double> c(n + 1);
-    for (std::size_t e = 0; e < el.n_elements(); ++e)
-      {
-        const auto             dofs = el.dofs(e);
-        std::array<Series, 12> local;
-        for (int i = 0; i < 12; ++i)
-          {
-            local[i] = Series::zero(n);
-            for (int k = 0; k <= n; ++k)
-              local[i].coefficient(k) = path[k][dofs[i]];
-          }
-        Series F[3][3];
-        el.deformation_gradient(local, e, F);
-        const Series J = HyperelasticTetElements::determinant(F);
-        for (int k = 0; k <= n; ++k)
-          c[k] = J[k];
-        first = first_nonpositive_point(c, first); // det F(a) of this element, up to the bound so far
-      }
+    using Series   = TruncatedSeries<32>;
+    const auto &el = elements();
+    const int   n  = std::min<int>(path.size() - 1, Series::capacity - 1);
+    // Each block searches up to the bound found so far in its own elements; the blocks do not
+    // depend on the thread count, nor does the answer.
+    std::vector<double> first_per_block((el.n_elements() + block_size - 1) / block_size, a_max);
+    for_each_block(el.n_elements(), block_size, [&](const std::size_t begin, const std::size_t end) {
+      double              first = a_max;
+      std::vector<double> c(n + 1);
+      for (std::size_t e = begin; e < end; ++e)
+        {
+          const auto             dofs = el.dofs(e);
+          std::array<Series, 12> local;
+          for (int i = 0; i < 12; ++i)
+            {
+              local[i] = Series::zero(n);
+              for (int k = 0; k <= n; ++k)
+                local[i].coefficient(k) = path[k][dofs[i]];
+            }
+          Series F[3][3];
+          el.deformation_gradient(local, e, F);
+          const Series J = HyperelasticTetElements::determinant(F);
+          for (int k = 0; k <= n; ++k)
+            c[k] = J[k];
+          first = first_nonpositive_point(c, first); // det F(a) of this element, up to the bound so far
+        }
+      first_per_block[begin / block_size] = first;
+    });
+    double first = a_max;
+    for (const double f : first_per_block)
+      first = std::min(first, f);
     return first;
   }
 
@@ -308,30 +332,37 @@ namespace nlmech
   {
     // det F(t) = det(F + t dF) is a cubic in t per element: c0 = det F, c3 = det dF, and c1, c2
     // from the mixed terms (evaluated exactly by sampling the cubic at t = -1, 1, 2).
-    const auto &el   = elements();
-    double      step = 1.0;
-    for (std::size_t e = 0; e < el.n_elements(); ++e)
-      {
-        const auto             dofs = el.dofs(e);
-        std::array<double, 12> local, delta;
-        for (int i = 0; i < 12; ++i)
-          local[i] = x[dofs[i]], delta[i] = dx[dofs[i]];
-        double F[3][3], dF[3][3];
-        el.deformation_gradient(local, e, F);
-        el.deformation_gradient(delta, e, dF);
-        auto det_at = [&](double t) {
-          double G[3][3];
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-              G[i][j] = F[i][j] + t * dF[i][j];
-          return HyperelasticTetElements::determinant(G);
-        };
-        const double p0 = det_at(0), pp = det_at(1), pm = det_at(-1), p2 = det_at(2);
-        const double c2 = 0.5 * (pp + pm) - p0;
-        const double c3 = (p2 - 3 * pp + 3 * p0 - pm) / 6.0; // third difference = 3! c3
-        const double c1 = pp - p0 - c2 - c3;
-        step            = std::min(step, first_positive_root_of_cubic({{p0, c1, c2, c3}}, step));
-      }
+    const auto         &el = elements();
+    std::vector<double> step_per_block((el.n_elements() + block_size - 1) / block_size, 1.0);
+    for_each_block(el.n_elements(), block_size, [&](const std::size_t begin, const std::size_t end) {
+      double step = 1.0;
+      for (std::size_t e = begin; e < end; ++e)
+        {
+          const auto             dofs = el.dofs(e);
+          std::array<double, 12> local, delta;
+          for (int i = 0; i < 12; ++i)
+            local[i] = x[dofs[i]], delta[i] = dx[dofs[i]];
+          double F[3][3], dF[3][3];
+          el.deformation_gradient(local, e, F);
+          el.deformation_gradient(delta, e, dF);
+          auto det_at = [&](double t) {
+            double G[3][3];
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j)
+                G[i][j] = F[i][j] + t * dF[i][j];
+            return HyperelasticTetElements::determinant(G);
+          };
+          const double p0 = det_at(0), pp = det_at(1), pm = det_at(-1), p2 = det_at(2);
+          const double c2 = 0.5 * (pp + pm) - p0;
+          const double c3 = (p2 - 3 * pp + 3 * p0 - pm) / 6.0; // third difference = 3! c3
+          const double c1 = pp - p0 - c2 - c3;
+          step            = std::min(step, first_positive_root_of_cubic({{p0, c1, c2, c3}}, step));
+        }
+      step_per_block[begin / block_size] = step;
+    });
+    double step = 1.0;
+    for (const double s : step_per_block)
+      step = std::min(step, s);
     return step;
   }
 } // namespace nlmech

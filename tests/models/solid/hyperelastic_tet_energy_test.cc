@@ -6,6 +6,8 @@
 #include <nlmech/solvers/anm/anm_solver.h>
 #include <nlmech/solvers/newton/newton_solver.h>
 
+#include <deal.II/base/multithread_info.h>
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -96,6 +98,58 @@ TEST_P(HyperelasticLaws, SeriesGradientMatchesDerivativesAlongAPath)
   EXPECT_LT((c3 - d3).norm() / d3.norm(), 1e-3); // O(h^2) differences of a third derivative
 }
 
+TEST_P(HyperelasticLaws, TwoThreadsComputeWhatOneDoes)
+{
+  // Value, gradient, Hessian, series coefficients and step bounds, bit for bit, with deal.II's
+  // task threads limited to one and to two (more elements than one block of the threaded loops).
+  const RawSimplexMesh<3>   mesh = block_mesh(0.2);
+  const HyperelasticTetTerm term(mesh.vertices, mesh.cells, rubber(GetParam()));
+  ASSERT_GT(mesh.cells.size(), 2 * HyperelasticTetTerm::block_size); // three blocks or more
+  std::vector<Eigen::VectorXd> path = {perturbed_positions(mesh, 0.02, 31)};
+  for (unsigned int j = 1; j <= 6; ++j)
+    path.push_back(perturbed_positions(mesh, 0.02, 31 + j) * std::pow(0.05, j));
+  struct Results
+  {
+    double                       value, step, first_inversion;
+    Eigen::VectorXd              gradient, hv;
+    Triplets                     hessian;
+    std::vector<Eigen::VectorXd> series;
+  };
+  auto evaluate = [&](const unsigned int threads) {
+    MultithreadInfo::set_thread_limit(threads);
+    EXPECT_EQ(MultithreadInfo::n_threads(), std::min(threads, MultithreadInfo::n_cores()));
+    Results r;
+    r.value    = term.value(path[0]);
+    r.gradient = Eigen::VectorXd::Zero(path[0].size());
+    term.add_gradient(path[0], r.gradient);
+    r.hv = Eigen::VectorXd::Zero(path[0].size());
+    term.add_hessian_vector_product(path[0], path[1], r.hv);
+    term.add_hessian(path[0], r.hessian);
+    for (unsigned int k = 2; k <= 6; ++k)
+      {
+        r.series.push_back(Eigen::VectorXd::Zero(path[0].size()));
+        term.add_gradient_series_coefficient(path, k, r.series.back());
+      }
+    r.step            = term.max_safe_step(path[0], 50 * path[1]);
+    r.first_inversion = term.first_invalid_along_series(path, 100.0);
+    return r;
+  };
+  const Results one = evaluate(1), two = evaluate(2);
+  MultithreadInfo::set_thread_limit(1);
+  EXPECT_EQ(one.value, two.value);
+  EXPECT_EQ(one.step, two.step);
+  EXPECT_EQ(one.first_inversion, two.first_inversion);
+  EXPECT_EQ((one.gradient - two.gradient).lpNorm<Eigen::Infinity>(), 0.0);
+  EXPECT_EQ((one.hv - two.hv).lpNorm<Eigen::Infinity>(), 0.0);
+  ASSERT_EQ(one.hessian.size(), two.hessian.size());
+  for (std::size_t i = 0; i < one.hessian.size(); ++i)
+    ASSERT_TRUE(one.hessian[i].row() == two.hessian[i].row() &&
+                one.hessian[i].col() == two.hessian[i].col() &&
+                one.hessian[i].value() == two.hessian[i].value());
+  for (std::size_t k = 0; k < one.series.size(); ++k)
+    EXPECT_EQ((one.series[k] - two.series[k]).lpNorm<Eigen::Infinity>(), 0.0) << "order " << k + 2;
+}
+
 TEST_P(HyperelasticLaws, SeriesKernelEqualsSacadoTaylorArithmetic)
 {
   // The fast kernel (forward derivatives of W(F) over truncated series) against the generic
@@ -127,13 +181,22 @@ TEST(NeoHookeanSeries, RecurrencesEqualTaylorArithmetic)
   for (unsigned int k = 1; k <= 12; ++k)
     {
       Eigen::VectorXd recurrences = Eigen::VectorXd::Zero(path[0].size()), series = recurrences,
-                      taylor  = recurrences;
+                      taylor = recurrences;
+      auto add_kernel        = [&](Eigen::VectorXd &out) {
+        kernels.prepare_series();
+        for (std::size_t e = 0; e < kernels.n_elements(); ++e)
+          {
+            std::array<double, 12> local{};
+            kernels.add_gradient_series_coefficient(path, k, e, local);
+            const auto dofs = kernels.dofs(e);
+            for (int i = 0; i < 12; ++i)
+              out[dofs[i]] += local[i];
+          }
+      };
       kernels.use_recurrences = true;
-      for (std::size_t e = 0; e < kernels.n_elements(); ++e)
-        kernels.add_gradient_series_coefficient(path, k, e, recurrences);
+      add_kernel(recurrences);
       kernels.use_recurrences = false;
-      for (std::size_t e = 0; e < kernels.n_elements(); ++e)
-        kernels.add_gradient_series_coefficient(path, k, e, series);
+      add_kernel(series);
       term.add_gradient_series_coefficient_by_taylor_ad(path, k, taylor);
       const double scale = std::max(1.0, taylor.norm());
       EXPECT_LT((recurrences - taylor).norm(), 1e-12 * scale) << "order " << k;

@@ -111,19 +111,22 @@ namespace nlmech
 
     /// Fast ANM kernel: coefficient k of the element's force series along sum_{j<k} a^j path[j],
     /// from forward derivatives of energy_density over truncated series in F (9 inputs instead
-    /// of 12, no allocation). Added into `out`.
+    /// of 12, no allocation). Added into the element's force vector `out` (its 12 dofs).
+    /// Safe to call for different elements on different threads after prepare_series().
     void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path, unsigned int k,
-                                         std::size_t e, Eigen::VectorXd &out) const;
+                                         std::size_t e, std::array<double, 12> &out) const;
+    /// Sizes the per-element cache of the recurrences (once; not thread-safe itself).
+    void prepare_series() const;
 
     /// The neo-Hookean ANM kernel by auxiliary-variable recurrences (ANM paper section 4.2.2 and
     /// appendix A, here on cof F, J, I_c, s = J^(-2/3), u = s I_c / J): every coefficient is linear
     /// in the newest one, so with the lower orders cached per element one order costs O(k) instead
     /// of O(k^2). Valid while called with k = 2, 3, ... on one path; anything else restarts the cache.
     void add_neo_hookean_series_by_recurrences(const std::vector<Eigen::VectorXd> &path, unsigned int k,
-                                               std::size_t e, Eigen::VectorXd &out) const;
+                                               std::size_t e, std::array<double, 12> &out) const;
     /// Adds the nodal forces V P grad(phi) of element e for a (series coefficient of the) first
-    /// Piola stress P to `out`.
-    void add_nodal_forces(const double (&P)[3][3], std::size_t e, Eigen::VectorXd &out) const;
+    /// Piola stress P to its force vector `out`.
+    void add_nodal_forces(const double (&P)[3][3], std::size_t e, std::array<double, 12> &out) const;
     /// Use the recurrences for neo-Hookean (default); false forces the truncated-series kernel.
     bool use_recurrences = true;
 
