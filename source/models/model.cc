@@ -108,12 +108,12 @@ namespace nlmech
 
   Eigen::SparseMatrix<double> Model::hessian(const Eigen::VectorXd &x, const bool projected) const
   {
-    Triplets triplets;
+    std::lock_guard<std::mutex> hold(hessian_assembly->lock());
+    Triplets                   &triplets = hessian_assembly->buffer();
+    triplets.clear();
     for (const auto &t : energy_terms)
       projected ? t->add_projected_hessian(x, triplets) : t->add_hessian(x, triplets);
-    Eigen::SparseMatrix<double> h(n, n);
-    h.setFromTriplets(triplets.begin(), triplets.end());
-    return h;
+    return hessian_assembly->assemble(n, triplets);
   }
 
   Eigen::SparseMatrix<double> Model::projected_hessian(const Eigen::VectorXd &x) const

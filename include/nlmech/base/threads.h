@@ -7,7 +7,9 @@
 #include <deal.II/base/parallel.h>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
+#include <vector>
 
 namespace nlmech
 {
@@ -34,5 +36,36 @@ namespace nlmech
       blocks(0, n_blocks);
     else
       dealii::parallel::apply_to_subranges(std::size_t(0), n_blocks, blocks, 1);
+  }
+
+  /// out[dofs(e)[i]] += v_e[i] for the element vectors local(e, v_e) of n elements (v_e zeroed
+  /// before, N entries in the element's numbering), computed in blocks on deal.II's threads into a
+  /// buffer and added in element order: bit for bit what one thread computes.
+  template <std::size_t N, typename Vector, typename Dofs, typename Local>
+  void add_element_vectors(const std::size_t n, const std::size_t block_size, const Dofs &dofs,
+                           const Local &local, Vector &out)
+  {
+    auto add = [&](const std::size_t e, const std::array<double, N> &v) {
+      const auto d = dofs(e);
+      for (std::size_t i = 0; i < N; ++i)
+        out[d[i]] += v[i];
+    };
+    if (n <= block_size || dealii::MultithreadInfo::n_threads() == 1)
+      {
+        for (std::size_t e = 0; e < n; ++e)
+          {
+            std::array<double, N> v{};
+            local(e, v);
+            add(e, v);
+          }
+        return;
+      }
+    std::vector<std::array<double, N>> buffer(n); // value-initialised: zeros
+    for_each_block(n, block_size, [&](const std::size_t begin, const std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e)
+        local(e, buffer[e]);
+    });
+    for (std::size_t e = 0; e < n; ++e)
+      add(e, buffer[e]);
   }
 } // namespace nlmech

@@ -209,7 +209,7 @@ namespace nlmech
     {
       if constexpr (has_series_kernel<Element>::value)
         {
-          element.prepare_series();
+          element.prepare_series(k);
           add_element_vectors(out, [&](const std::size_t e, std::array<double, N> &local) {
             element.add_gradient_series_coefficient(path, k, e, local);
           });
@@ -287,35 +287,12 @@ namespace nlmech
       });
     }
 
-    /// out += the element vectors local(e, v) (v zeroed before, in element numbering), computed
-    /// on deal.II's threads into a buffer and added in element order: bit for bit what one thread
-    /// computes.
+    /// out += the element vectors local(e, v), bit for bit what one thread computes.
     template <typename Local>
     void add_element_vectors(Eigen::VectorXd &out, const Local &local) const
     {
-      const std::size_t n_elem = element.n_elements();
-      auto              add    = [&](const std::size_t e, const std::array<double, N> &v) {
-        const auto dofs = element.dofs(e);
-        for (std::size_t i = 0; i < N; ++i)
-          out[dofs[i]] += v[i];
-      };
-      if (n_elem <= block_size || dealii::MultithreadInfo::n_threads() == 1)
-        {
-          for (std::size_t e = 0; e < n_elem; ++e)
-            {
-              std::array<double, N> v{};
-              local(e, v);
-              add(e, v);
-            }
-          return;
-        }
-      std::vector<std::array<double, N>> buffer(n_elem); // value-initialised: zeros
-      for_each_block(n_elem, block_size, [&](const std::size_t begin, const std::size_t end) {
-        for (std::size_t e = begin; e < end; ++e)
-          local(e, buffer[e]);
-      });
-      for (std::size_t e = 0; e < n_elem; ++e)
-        add(e, buffer[e]);
+      nlmech::add_element_vectors<N>(
+          element.n_elements(), block_size, [&](const std::size_t e) { return element.dofs(e); }, local, out);
     }
 
     template <typename S>

@@ -3,6 +3,7 @@
 // terms. Solvers see only this class, never the physics behind the terms.
 
 #include <nlmech/models/energy_term.h>
+#include <nlmech/models/triplet_assembly.h>
 
 #include <Eigen/Sparse>
 
@@ -53,6 +54,8 @@ namespace nlmech
     std::vector<std::shared_ptr<const EnergyTerm>> energy_terms;
     Eigen::VectorXd                                mass;
     std::map<std::size_t, double>                  fixed_values;
+    /// Hessian assembly with its pattern kept (shared by copies; thread-safe).
+    std::shared_ptr<TripletAssembly> hessian_assembly = std::make_shared<TripletAssembly>();
   };
 
   /// The unknowns that are not fixed: restriction of vectors and matrices to them and back.

@@ -1,4 +1,5 @@
 #include <nlmech/models/solid/hyperelastic_tet_energy.h>
+#include <nlmech/models/solid/neo_hookean_recurrences.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/tensor.h>
@@ -77,16 +78,10 @@ namespace nlmech
       }
   }
 
-  void HyperelasticTetElements::prepare_series() const
+  void HyperelasticTetElements::prepare_series(const unsigned int k) const
   {
-    if (law != HyperelasticLaw::neo_hookean || !use_recurrences)
-      return;
-    if (cache.size() != tets.size() * cached_series * series_capacity)
-      {
-        cache.assign(tets.size() * cached_series * series_capacity, 0.0);
-        cached_order.assign(tets.size(), -1);
-        cached_origin.assign(tets.size(), nullptr);
-      }
+    if (law == HyperelasticLaw::neo_hookean && use_recurrences)
+      cache.prepare(tets.size(), cached_series, k);
   }
 
   void
@@ -94,87 +89,40 @@ namespace nlmech
                                                                  const unsigned int k, const std::size_t e,
                                                                  std::array<double, 12> &out) const
   {
-    constexpr int N = series_capacity, Q = cached_series;
-    AssertThrow(int(k) < N, dealii::ExcMessage("The ANM order is limited to 31."));
-    AssertThrow(cache.size() == tets.size() * Q * N,
-                dealii::ExcMessage("prepare_series() must be called before the recurrence kernel."));
-    double      *c = &cache[e * Q * N];
-    auto         F = [&](int ab) { return c + ab * N; };
-    auto         C = [&](int ab) { return c + (9 + ab) * N; }; // cofactor matrix of F
-    double      *J = c + 18 * N, *Ic = c + 19 * N, *S = c + 20 * N, *T = c + 21 * N, *U = c + 22 * N;
-    const auto   dofs = this->dofs(e);
-    const double p    = -2.0 / 3.0;
-
-    // Coefficient m of every cached quantity, from F_0..F_m and the lower coefficients.
-    auto compute_order = [&](int m) {
-      // F_m: from path[m] if it is part of the path, else 0 (the newest coefficient is left out).
-      double Fm[3][3] = {};
-      if (m < int(k) && m < int(path.size()))
-        {
-          std::array<double, 12> local;
-          for (int i = 0; i < 12; ++i)
-            local[i] = path[m][dofs[i]];
-          deformation_gradient(local, e, Fm);
-        }
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          F(3 * a + b)[m] = Fm[a][b];
-      auto product = [&](const double *x, const double *y) {
-        double sum = 0;
-        for (int i = 0; i <= m; ++i)
-          sum += x[i] * y[m - i];
-        return sum;
-      };
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          {
-            const int a1 = (a + 1) % 3, a2 = (a + 2) % 3, b1 = (b + 1) % 3, b2 = (b + 2) % 3;
-            C(3 * a + b)
-            [m] = product(F(3 * a1 + b1), F(3 * a2 + b2)) - product(F(3 * a1 + b2), F(3 * a2 + b1));
-          }
-      J[m] = Ic[m] = 0;
-      for (int b = 0; b < 3; ++b)
-        J[m] += product(F(b), C(b)); // det F = row 0 of F . row 0 of cof F
-      for (int ab = 0; ab < 9; ++ab)
-        Ic[m] += product(F(ab), F(ab));
-      if (m == 0)
-        S[0] = std::pow(J[0], p);
-      else
-        {
-          double sum = 0; // s = J^p: s_m = 1/(m J_0) sum_{j=1}^m ((p+1) j - m) J_j s_{m-j}
-          for (int j = 1; j <= m; ++j)
-            sum += ((p + 1) * j - m) * J[j] * S[m - j];
-          S[m] = sum / (m * J[0]);
-        }
-      T[m]       = product(S, Ic);
-      double sum = T[m]; // u = t / J: u_m = (t_m - sum_{j=1}^m J_j u_{m-j}) / J_0
-      for (int j = 1; j <= m; ++j)
-        sum -= J[j] * U[m - j];
-      U[m] = sum / J[0];
-    };
+    AssertThrow(k < cache.capacity(),
+                dealii::ExcMessage("prepare_series(k) must be called before the recurrence kernel."));
+    NeoHookeanSeries series;
+    for (int ab = 0; ab < 9; ++ab)
+      {
+        series.F[ab] = cache.quantity(e, ab);
+        series.C[ab] = cache.quantity(e, 9 + ab);
+      }
+    series.J        = cache.quantity(e, 18);
+    series.Ic       = cache.quantity(e, 19);
+    series.S        = cache.quantity(e, 20);
+    series.U        = cache.quantity(e, 21);
+    const auto dofs = this->dofs(e);
 
     // Orders below k-1 are exact and cached if this is the next order on the same path; order k-1
-    // was computed with F_{k-1} left out and is redone now that it is known.
-    int start = 0;
-    if (k > 2 && cached_origin[e] == path[0].data() && cached_order[e] == int(k) - 2)
-      start = int(k) - 1;
-    for (int m = start; m <= int(k); ++m)
-      compute_order(m);
-    cached_order[e]  = int(k) - 1;
-    cached_origin[e] = path[0].data();
-
-    // P_k = mu (s F)_k - mu/3 (u cof F)_k + kappa ((J - 1) cof F)_k
-    auto product_k = [&](const double *x, const double *y) {
-      double sum = 0;
-      for (int i = 0; i <= int(k); ++i)
-        sum += x[i] * y[k - i];
-      return sum;
-    };
+    // was computed with F_{k-1} left out and is redone now that it is known. F_m comes from
+    // path[m] when it is part of the path, else it is 0 (the newest coefficient is left out).
+    for (int m = cache.first_order(e, k, path[0].data()); m <= int(k); ++m)
+      {
+        double Fm[3][3] = {};
+        if (m < int(k) && m < int(path.size()))
+          {
+            std::array<double, 12> local;
+            for (int i = 0; i < 12; ++i)
+              local[i] = path[m][dofs[i]];
+            deformation_gradient(local, e, Fm);
+          }
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b)
+            series.F[3 * a + b][m] = Fm[a][b];
+        series.advance(m);
+      }
     double P[3][3];
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        P[a][b] = mu * product_k(S, F(3 * a + b)) - mu / 3 * product_k(U, C(3 * a + b)) +
-                  kappa * (product_k(J, C(3 * a + b)) - C(3 * a + b)[k]);
+    series.stress(int(k), mu, kappa, P);
     add_nodal_forces(P, e, out);
   }
 

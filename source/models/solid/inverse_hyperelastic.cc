@@ -1,7 +1,11 @@
+#include <nlmech/base/threads.h>
 #include <nlmech/base/truncated_series.h>
 #include <nlmech/models/solid/inverse_hyperelastic.h>
+#include <nlmech/models/solid/neo_hookean_recurrences.h>
 
 #include <deal.II/base/exceptions.h>
+
+#include <algorithm>
 
 namespace nlmech
 {
@@ -80,106 +84,228 @@ namespace nlmech
       }
   }
 
+  std::array<std::size_t, 12> InverseHyperelasticSystem::dofs(const std::size_t e) const
+  {
+    return element_dofs(tets[e]);
+  }
+
   Eigen::VectorXd InverseHyperelasticSystem::internal_force(const Eigen::VectorXd &X) const
   {
     Eigen::VectorXd r = Eigen::VectorXd::Zero(X.size());
-    for (std::size_t e = 0; e < tets.size(); ++e)
-      {
-        const auto             dofs = element_dofs(tets[e]);
-        std::array<double, 12> local, force;
-        for (int i = 0; i < 12; ++i)
-          local[i] = X[dofs[i]];
-        element_force(e, local, force);
-        for (int i = 0; i < 12; ++i)
-          r[dofs[i]] += force[i];
-      }
+    add_element_vectors<12>(
+        tets.size(), block_size, [&](const std::size_t e) { return dofs(e); },
+        [&](const std::size_t e, std::array<double, 12> &force) {
+          const auto             d = dofs(e);
+          std::array<double, 12> local;
+          for (int i = 0; i < 12; ++i)
+            local[i] = X[d[i]];
+          element_force(e, local, force);
+        },
+        r);
     return r;
   }
 
   Eigen::SparseMatrix<double> InverseHyperelasticSystem::tangent(const Eigen::VectorXd &X) const
   {
     using Fad = Sacado::Fad::SFad<double, 12>;
-    Triplets triplets;
-    triplets.reserve(144 * tets.size());
-    for (std::size_t e = 0; e < tets.size(); ++e)
-      {
-        const auto          dofs = element_dofs(tets[e]);
-        std::array<Fad, 12> local, force;
-        for (int i = 0; i < 12; ++i)
-          local[i] = Fad(12, i, X[dofs[i]]);
-        element_force(e, local, force);
-        for (int i = 0; i < 12; ++i)
-          for (int j = 0; j < 12; ++j)
-            triplets.emplace_back(dofs[i], dofs[j], force[i].dx(j));
-      }
+    Triplets triplets(144 * tets.size());
+    for_each_block(tets.size(), block_size / 2, [&](const std::size_t begin, const std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e)
+        {
+          const auto          d = dofs(e);
+          std::array<Fad, 12> local, force;
+          for (int i = 0; i < 12; ++i)
+            local[i] = Fad(12, i, X[d[i]]);
+          element_force(e, local, force);
+          for (int i = 0; i < 12; ++i)
+            for (int j = 0; j < 12; ++j)
+              triplets[144 * e + 12 * i + j] = Eigen::Triplet<double>(int(d[i]), int(d[j]), force[i].dx(j));
+        }
+    });
     Eigen::SparseMatrix<double> K(X.size(), X.size());
     K.setFromTriplets(triplets.begin(), triplets.end());
     return K;
+  }
+
+  void InverseHyperelasticSystem::prepare_series(const unsigned int k) const
+  {
+    if (density.law == HyperelasticLaw::neo_hookean && use_recurrences)
+      cache.prepare(tets.size(), cached_series, k);
+  }
+
+  void
+  InverseHyperelasticSystem::add_force_series_by_truncated_series(const std::vector<Eigen::VectorXd> &path,
+                                                                  const unsigned int k, const std::size_t e,
+                                                                  std::array<double, 12> &force) const
+  {
+    using Series = TruncatedSeries<32>;
+    AssertThrow(k < Series::capacity, dealii::ExcMessage("The ANM order is limited to 31."));
+    const auto             d = dofs(e);
+    std::array<Series, 12> local, series_force;
+    for (int i = 0; i < 12; ++i)
+      {
+        local[i] = Series::zero(k);
+        for (unsigned int j = 0; j < k && j < path.size(); ++j)
+          local[i].coefficient(j) = path[j][d[i]];
+      }
+    element_force(e, local, series_force);
+    for (int i = 0; i < 12; ++i)
+      force[i] += series_force[i][k];
+  }
+
+  void InverseHyperelasticSystem::add_force_series_by_recurrences(const std::vector<Eigen::VectorXd> &path,
+                                                                  const unsigned int k, const std::size_t e,
+                                                                  std::array<double, 12> &force) const
+  {
+    AssertThrow(k < cache.capacity(),
+                dealii::ExcMessage("prepare_series(k) must be called before the recurrence kernel."));
+    double *D[9], *A[9], *P[9];
+    for (int ab = 0; ab < 9; ++ab)
+      {
+        D[ab] = cache.quantity(e, ab);
+        A[ab] = cache.quantity(e, 9 + ab);
+        P[ab] = cache.quantity(e, 41 + ab);
+      }
+    double          *det = cache.quantity(e, 18);
+    NeoHookeanSeries series;
+    for (int ab = 0; ab < 9; ++ab)
+      {
+        series.F[ab] = cache.quantity(e, 19 + ab);
+        series.C[ab] = cache.quantity(e, 28 + ab);
+      }
+    series.J     = cache.quantity(e, 37);
+    series.Ic    = cache.quantity(e, 38);
+    series.S     = cache.quantity(e, 39);
+    series.U     = cache.quantity(e, 40);
+    const auto d = dofs(e);
+    double     Ds[3][3]; // D_s of the (fixed) target
+    for (int i = 0; i < 3; ++i)
+      for (int a = 0; a < 3; ++a)
+        Ds[i][a] = target[d[3 * (a + 1) + i]] - target[d[i]];
+    using Cauchy = NeoHookeanSeries;
+
+    // Orders below k-1 are cached and exact when this is the next order on the same path; order
+    // k-1 was computed with X_{k-1} left out and is redone; X_k is left out (taken as zero).
+    for (int m = cache.first_order(e, k, path[0].data()); m <= int(k); ++m)
+      {
+        const bool known = m < int(k) && m < int(path.size());
+        for (int i = 0; i < 3; ++i)
+          for (int a = 0; a < 3; ++a)
+            D[3 * i + a][m] = known ? path[m][d[3 * (a + 1) + i]] - path[m][d[i]] : 0.0;
+        // A = adj D_m (quadratic in X), det D_m = row 0 of D_m . column 0 of A (cubic in X).
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            {
+              const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+              A[3 * i + j][m] = Cauchy::cauchy(D[3 * i1 + j1], D[3 * i2 + j2], m) -
+                                Cauchy::cauchy(D[3 * i1 + j2], D[3 * i2 + j1], m);
+            }
+        det[m] = 0;
+        for (int b = 0; b < 3; ++b)
+          det[m] += Cauchy::cauchy(D[b], A[3 * b], m);
+        // F = D_s A / det: F_m = ((D_s A)_m - sum_{j=1}^m det_j F_{m-j}) / det_0.
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            {
+              double value = 0;
+              for (int a = 0; a < 3; ++a)
+                value += Ds[i][a] * A[3 * a + j][m];
+              for (int l = 1; l <= m; ++l)
+                value -= det[l] * series.F[3 * i + j][m - l];
+              series.F[3 * i + j][m] = value / det[0];
+            }
+        series.advance(m);
+        double Pm[3][3];
+        series.stress(m, density.mu, density.kappa, Pm);
+        for (int ab = 0; ab < 9; ++ab)
+          P[ab][m] = Pm[ab / 3][ab % 3];
+      }
+    // dE/dx_{a,i} = V sum_j P_ij (D_m^-1)_{a-1,j} = sum_j P_ij A_{a-1,j} / 6; vertex 0 balances.
+    for (int i = 0; i < 3; ++i)
+      {
+        double balance = 0;
+        for (int a = 1; a < 4; ++a)
+          {
+            double f = 0;
+            for (int j = 0; j < 3; ++j)
+              f += Cauchy::cauchy(P[3 * i + j], A[3 * (a - 1) + j], int(k));
+            force[3 * a + i] += f / 6.0;
+            balance += f / 6.0;
+          }
+        force[i] -= balance;
+      }
   }
 
   Eigen::VectorXd
   InverseHyperelasticSystem::internal_force_series_coefficient(const std::vector<Eigen::VectorXd> &path,
                                                                const unsigned int                  k) const
   {
-    using Series = TruncatedSeries<32>;
-    AssertThrow(k < Series::capacity, dealii::ExcMessage("The ANM order is limited to 31."));
+    const bool recurrences = density.law == HyperelasticLaw::neo_hookean && use_recurrences;
+    prepare_series(k);
     Eigen::VectorXd out = Eigen::VectorXd::Zero(path[0].size());
-    for (std::size_t e = 0; e < tets.size(); ++e)
-      {
-        const auto             dofs = element_dofs(tets[e]);
-        std::array<Series, 12> local, force;
-        for (int i = 0; i < 12; ++i)
-          {
-            local[i] = Series::zero(k);
-            for (unsigned int j = 0; j < k && j < path.size(); ++j)
-              local[i].coefficient(j) = path[j][dofs[i]];
-          }
-        element_force(e, local, force);
-        for (int i = 0; i < 12; ++i)
-          out[dofs[i]] += force[i][k];
-      }
+    add_element_vectors<12>(
+        tets.size(), block_size, [&](const std::size_t e) { return dofs(e); },
+        [&](const std::size_t e, std::array<double, 12> &force) {
+          if (recurrences)
+            add_force_series_by_recurrences(path, k, e, force);
+          else
+            add_force_series_by_truncated_series(path, k, e, force);
+        },
+        out);
     return out;
   }
 
   bool InverseHyperelasticSystem::is_valid(const Eigen::VectorXd &X) const
   {
-    for (const auto &tet : tets)
-      {
-        const auto dofs = element_dofs(tet);
-        double     Dm[3][3];
-        for (int d = 0; d < 3; ++d)
-          for (int a = 0; a < 3; ++a)
-            Dm[d][a] = X[dofs[3 * (a + 1) + d]] - X[dofs[d]];
-        if (HyperelasticTetElements::determinant(Dm) <= 0)
-          return false;
-      }
-    return true;
+    const std::size_t n_blocks = (tets.size() + block_size - 1) / block_size;
+    std::vector<char> valid(n_blocks, 1);
+    for_each_block(tets.size(), block_size, [&](const std::size_t begin, const std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e)
+        {
+          const auto d = dofs(e);
+          double     Dm[3][3];
+          for (int i = 0; i < 3; ++i)
+            for (int a = 0; a < 3; ++a)
+              Dm[i][a] = X[d[3 * (a + 1) + i]] - X[d[i]];
+          if (HyperelasticTetElements::determinant(Dm) <= 0)
+            {
+              valid[begin / block_size] = 0;
+              return;
+            }
+        }
+    });
+    return std::all_of(valid.begin(), valid.end(), [](const char v) { return v != 0; });
   }
 
   double InverseHyperelasticSystem::first_invalid_along_series(const std::vector<Eigen::VectorXd> &path,
                                                                const double a_max) const
   {
-    using Series    = TruncatedSeries<32>;
-    const int n     = std::min<int>(path.size() - 1, Series::capacity - 1);
-    double    first = a_max;
-    for (const auto &tet : tets)
-      {
-        const auto dofs = element_dofs(tet);
-        Series     Dm[3][3];
-        for (int d = 0; d < 3; ++d)
-          for (int a = 0; a < 3; ++a)
-            {
-              Dm[d][a] = Series::zero(n);
-              for (int j = 0; j <= n; ++j)
-                Dm[d][a].coefficient(j) = path[j][dofs[3 * (a + 1) + d]] - path[j][dofs[d]];
-            }
-        const Series        det = HyperelasticTetElements::determinant(Dm);
-        std::vector<double> c(n + 1);
-        for (int j = 0; j <= n; ++j)
-          c[j] = det[j];
-        first = first_nonpositive_point(c, first); // 6 V(a) of this rest element
-      }
-    return first;
+    using Series = TruncatedSeries<32>;
+    const int n  = std::min<int>(path.size() - 1, Series::capacity - 1);
+    // Per block, up to the bound found so far in its own elements: the same for every thread count.
+    std::vector<double> first_per_block((tets.size() + block_size - 1) / block_size, a_max);
+    for_each_block(tets.size(), block_size, [&](const std::size_t begin, const std::size_t end) {
+      double              first = a_max;
+      std::vector<double> c(n + 1);
+      for (std::size_t e = begin; e < end; ++e)
+        {
+          const auto d = dofs(e);
+          Series     Dm[3][3];
+          for (int i = 0; i < 3; ++i)
+            for (int a = 0; a < 3; ++a)
+              {
+                Dm[i][a] = Series::zero(n);
+                for (int j = 0; j <= n; ++j)
+                  Dm[i][a].coefficient(j) = path[j][d[3 * (a + 1) + i]] - path[j][d[i]];
+              }
+          const Series det = HyperelasticTetElements::determinant(Dm);
+          for (int j = 0; j <= n; ++j)
+            c[j] = det[j];
+          first = first_nonpositive_point(c, first); // 6 V(a) of this rest element
+        }
+      first_per_block[begin / block_size] = first;
+    });
+    return *std::min_element(first_per_block.begin(), first_per_block.end());
   }
 
   template void InverseHyperelasticSystem::element_force(std::size_t, const std::array<double, 12> &,

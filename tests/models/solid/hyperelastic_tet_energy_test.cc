@@ -183,7 +183,7 @@ TEST(NeoHookeanSeries, RecurrencesEqualTaylorArithmetic)
       Eigen::VectorXd recurrences = Eigen::VectorXd::Zero(path[0].size()), series = recurrences,
                       taylor = recurrences;
       auto add_kernel        = [&](Eigen::VectorXd &out) {
-        kernels.prepare_series();
+        kernels.prepare_series(k);
         for (std::size_t e = 0; e < kernels.n_elements(); ++e)
           {
             std::array<double, 12> local{};

@@ -95,6 +95,36 @@ TEST(InverseHyperelastic, ForceEqualsForwardGradientAndTangentMatchesDifferences
   EXPECT_LT((c2 - d2).norm(), 1e-5 * d2.norm());
 }
 
+TEST(InverseHyperelastic, SeriesByRecurrencesEqualsTruncatedSeries)
+{
+  // The O(k) recurrence kernel (D_m, adj D_m, det D_m, F = D_s adj / det, then the neo-Hookean
+  // recurrences) against element_force on truncated series, orders 2..14 in sequence on one path
+  // and again from order 2 on a second path (the cache must restart).
+  MeshOptions                            options{source_dir + "/meshes/block.geo", 0.5, {}, ""};
+  const RawSimplexMesh<3>                mesh   = read_simplex_mesh<3>(options, 3);
+  const Eigen::VectorXd                  target = positions(mesh);
+  std::mt19937                           random(3);
+  std::uniform_real_distribution<double> uniform(-0.03, 0.03);
+  InverseHyperelasticSystem              system(mesh, target, silicone(), vertices_of(mesh, "x0"));
+  for (const int pass : {0, 1})
+    {
+      std::vector<Eigen::VectorXd> path(15, target);
+      for (std::size_t j = 0; j < path.size(); ++j)
+        for (auto &v : path[j])
+          v = (j == 0 ? v : 0.0) + uniform(random) * std::pow(0.3, j) * (pass + 1);
+      std::vector<Eigen::VectorXd> known(path.begin(), path.begin() + 2); // grows as the ANM's does
+      for (unsigned int k = 2; k <= 14; known.push_back(path[k]), ++k)
+        {
+          system.use_recurrences            = true;
+          const Eigen::VectorXd recurrences = system.internal_force_series_coefficient(known, k);
+          system.use_recurrences            = false;
+          const Eigen::VectorXd generic     = system.internal_force_series_coefficient(known, k);
+          EXPECT_LT((recurrences - generic).norm(), 1e-12 * std::max(1.0, generic.norm()))
+              << "pass " << pass << ", order " << k << ", |generic| " << generic.norm();
+        }
+    }
+}
+
 class RoundTrip : public ::testing::TestWithParam<double>
 {
 };

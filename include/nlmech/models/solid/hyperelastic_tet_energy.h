@@ -6,6 +6,7 @@
 //  - compressible neo-Hookean (ANM paper eq. 3): W = mu/2 (J^(-2/3) I_c - 3) + kappa/2 (J - 1)^2
 //  - St.Venant-Kirchhoff: W = mu E:E + lambda/2 tr(E)^2, E = (F^T F - I)/2
 
+#include <nlmech/base/series_cache.h>
 #include <nlmech/base/truncated_series.h>
 #include <nlmech/mesh/gmsh_mesh.h>
 #include <nlmech/models/elastic_constants.h>
@@ -112,11 +113,12 @@ namespace nlmech
     /// Fast ANM kernel: coefficient k of the element's force series along sum_{j<k} a^j path[j],
     /// from forward derivatives of energy_density over truncated series in F (9 inputs instead
     /// of 12, no allocation). Added into the element's force vector `out` (its 12 dofs).
-    /// Safe to call for different elements on different threads after prepare_series().
+    /// Safe to call for different elements on different threads after prepare_series(k).
     void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path, unsigned int k,
                                          std::size_t e, std::array<double, 12> &out) const;
-    /// Sizes the per-element cache of the recurrences (once; not thread-safe itself).
-    void prepare_series() const;
+    /// Sizes the per-element cache of the recurrences for coefficient k (once per k, before the
+    /// loop over the elements; not thread-safe itself).
+    void prepare_series(unsigned int k) const;
 
     /// The neo-Hookean ANM kernel by auxiliary-variable recurrences (ANM paper section 4.2.2 and
     /// appendix A, here on cof F, J, I_c, s = J^(-2/3), u = s I_c / J): every coefficient is linear
@@ -137,11 +139,8 @@ namespace nlmech
     std::vector<double>                               volume;             // rest volume
 
   private:
-    static constexpr int        series_capacity = 32;
-    static constexpr int        cached_series   = 9 + 9 + 5; // F, cof F, J, I_c, s, t = s I_c, u = t / J
-    mutable std::vector<double> cache;                       // element-major: [e][quantity][order]
-    mutable std::vector<int>    cached_order;          // per element: highest exact order cached, -1: none
-    mutable std::vector<const double *> cached_origin; // per element: path[0].data() it was built for
+    static constexpr int cached_series = 9 + 9 + 4; // F, cof F, J, I_c, s = J^(-2/3), u = s I_c / J
+    mutable SeriesCache  cache;
   };
 
   extern template class ElementEnergyTerm<HyperelasticTetElements>;

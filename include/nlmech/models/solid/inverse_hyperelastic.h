@@ -5,6 +5,7 @@
 // X (double, Sacado Fad for the non-symmetric tangent dr/dX, truncated series for the ANM), on the
 // same energy density W(F) as the forward problem, F = D_s(x) D_m(X)^-1.
 
+#include <nlmech/base/series_cache.h>
 #include <nlmech/mesh/gmsh_mesh.h>
 #include <nlmech/models/equilibrium_system.h>
 #include <nlmech/models/solid/hyperelastic_tet_energy.h>
@@ -38,7 +39,29 @@ namespace nlmech
     template <typename S>
     void element_force(std::size_t e, const std::array<S, 12> &X, std::array<S, 12> &force) const;
 
+    /// Coefficient k of the element force series of element e by auxiliary-variable recurrences
+    /// (neo-Hookean only): D_m(X) and its adjugate A are polynomial in the path, det D_m too,
+    /// F = D_s A / det D_m by the division recurrence, then the forward kernel's recurrences in F;
+    /// the force is A P^T / 6. O(k) per order with the lower orders cached per element; valid
+    /// while called with k = 2, 3, ... on one path (anything else restarts the cache), after
+    /// prepare_series(k).
+    void add_force_series_by_recurrences(const std::vector<Eigen::VectorXd> &path, unsigned int k,
+                                         std::size_t e, std::array<double, 12> &force) const;
+    void prepare_series(unsigned int k) const;
+    /// The generic kernel: element_force on truncated series, O(k^2) per order (any law).
+    void add_force_series_by_truncated_series(const std::vector<Eigen::VectorXd> &path, unsigned int k,
+                                              std::size_t e, std::array<double, 12> &force) const;
+    /// Use the recurrences for neo-Hookean (default); false forces the generic kernel.
+    bool use_recurrences = true;
+
+    static constexpr std::size_t block_size = 256; // elements per task of the threaded loops
+
   private:
+    std::array<std::size_t, 12>  dofs(std::size_t e) const;
+    static constexpr std::size_t cached_series =
+        9 + 9 + 1 + 9 + 9 + 4 + 9; // D_m, A, det, F, cof F, J, I_c, s, u, P
+    mutable SeriesCache cache;
+
     std::vector<std::array<unsigned int, 4>> tets;
     Eigen::VectorXd                          target;
     HyperelasticTetElements                  density; // for energy_density(F) and the constants

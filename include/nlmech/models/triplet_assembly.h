@@ -1,0 +1,34 @@
+#pragma once
+// Sparse matrices from triplets, with the pattern kept between calls: a Hessian whose triplets
+// come in the same (row, column) sequence as last time is assembled by adding each value into
+// its known position, instead of Eigen's sort-and-merge setFromTriplets (the serial part of a
+// tangent: 7 million triplets on a 10k-vertex tetrahedral mesh). The sums are taken in triplet
+// order, as setFromTriplets takes them.
+
+#include <nlmech/models/energy_term.h>
+
+#include <Eigen/Sparse>
+
+#include <mutex>
+#include <vector>
+
+namespace nlmech
+{
+  class TripletAssembly
+  {
+  public:
+    /// The n x n matrix of the triplets (duplicates summed). Thread-safe (one call at a time).
+    Eigen::SparseMatrix<double> assemble(std::size_t n, const Triplets &triplets);
+
+    /// A buffer to collect triplets in, kept between calls (no re-allocation of millions of
+    /// entries per tangent); lock() while using it.
+    Triplets   &buffer() { return scratch; }
+    std::mutex &lock() { return guard; }
+
+  private:
+    std::mutex                  guard, assembly_guard;
+    Triplets                    scratch;
+    std::vector<int>            rows, cols, position; // the last sequence and each one's slot
+    Eigen::SparseMatrix<double> pattern;
+  };
+} // namespace nlmech
