@@ -16,10 +16,10 @@
 #include <nlmech/models/solid/hyperelastic_model.h>
 #include <nlmech/models/solid/inverse_hyperelastic.h>
 #include <nlmech/scenes/elastic_statics_parameters.h>
+#include <nlmech/scenes/inverse/baselines.h>
 #include <nlmech/scenes/inverse/multi_target.h>
 #include <nlmech/solvers/anm/anm_solver.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
-#include <nlmech/solvers/relaxation/levenberg_marquardt.h>
 
 #include <algorithm>
 #include <cmath>
@@ -58,10 +58,9 @@ namespace nlmech
             "Methods", "anm", Patterns::MultipleSelection("anm|newton|levenberg-marquardt"),
             "Comma-separated, side by side on the same target; the first listed gives the rest shape: anm "
             "(Asymptotic Numerical Method from X = x), newton (Newton with line search on the residual, load "
-            "stepped), levenberg-marquardt (the paper's baseline, from X = x).");
+            "stepped adaptively), levenberg-marquardt (the paper's baseline, from its two initial guesses).");
         AnmSettings::declare_parameters(prm);
-        prm.declare_entry("Newton load steps", "5", Patterns::Integer(1), "Load increments for Newton [-].");
-        NewtonSettings::declare_parameters(prm);
+        InverseBaselineSettings::declare_parameters(prm);
         prm.declare_entry("Round trip tolerance", "1e-6", Patterns::Double(0),
                           "The forward solve from the rest shape under the same loads must land within this "
                           "distance of the target, relative to the target's bounding-box diagonal [-]; above "
@@ -98,8 +97,7 @@ namespace nlmech
         prm.enter_subsection("Solver");
         methods = Utilities::split_string_list(prm.get("Methods"), ',');
         anm.parse_parameters(prm);
-        newton_steps = prm.get_integer("Newton load steps");
-        newton.parse_parameters(prm);
+        baselines.parse_parameters(prm);
         round_trip_tolerance    = prm.get_double("Round trip tolerance");
         const bool multi_target = prm.get_bool("Multi-target design");
         prm.leave_subsection();
@@ -145,7 +143,7 @@ namespace nlmech
         context.summary.add_number("n_vertices", target_mesh.vertices.size());
         context.summary.add_number("n_tetrahedra", target_mesh.cells.size());
 
-        Eigen::VectorXd rest = x, rest_newton;
+        Eigen::VectorXd rest = x;
         auto            uses = [&](const std::string &m) {
           return std::find(methods.begin(), methods.end(), m) != methods.end();
         };
@@ -170,67 +168,27 @@ namespace nlmech
             if (!result.completed)
               context.partial_reason = "inverse ANM: " + result.stop_reason;
           }
+        const InverseBaselineProblem baseline{
+            system, on_target.load, x, anm.residual_tolerance, on_target.internal, anm};
         if (uses("newton") && context.partial_reason.empty())
           {
-            TimerOutput::Scope t(context.timer, "inverse Newton");
-            rest_newton = x;
-            JsonObject s;
-            s.add_number("load_steps", newton_steps);
-            try
-              {
-                const LoadSteppingResult result = solve_equilibrium_with_newton(
-                    system, on_target.load, rest_newton, newton_steps, anm.residual_tolerance, newton);
-                s.add_bool("completed", true);
-                s.add_number("iterations", result.iterations);
-                s.add_number("factorizations", result.factorizations);
-                s.add_figure("wall_time", result.seconds, "s");
-                context.pcout << "inverse Newton: " << result.iterations << " iterations, " << result.seconds
-                              << " s" << std::endl;
-              }
-            catch (const ExceptionBase &e)
-              {
-                // The baseline failing is a result, not an error of the run (unless it is the only method).
-                std::ostringstream message;
-                e.print_info(message);
-                AssertThrow(methods.size() > 1, ExcMessage("inverse Newton: " + message.str()));
-                s.add_bool("completed", false);
-                s.add_string("failure", message.str());
-                context.pcout << "inverse Newton failed: " << message.str() << std::endl;
-                rest_newton.resize(0);
-              }
-            context.summary.add_object("newton", s);
+            TimerOutput::Scope    t(context.timer, "inverse Newton");
+            const Eigen::VectorXd rest_newton =
+                inverse_newton_baseline(context, baselines, baseline, methods.size() == 1);
             if (methods.front() == "newton")
               rest = rest_newton;
             else if (rest_newton.size() && uses("anm"))
               context.summary.add_figure("anm_newton_difference",
                                          (rest - rest_newton).lpNorm<Eigen::Infinity>(), "m");
           }
-
         if (uses("levenberg-marquardt") && context.partial_reason.empty())
           {
-            TimerOutput::Scope         t(context.timer, "inverse Levenberg-Marquardt");
-            Eigen::VectorXd            rest_lm = x;
-            LevenbergMarquardtSettings settings;
-            settings.relative_tolerance = anm.residual_tolerance;
-            const LevenbergMarquardtResult result =
-                solve_with_levenberg_marquardt(system, on_target.load, rest_lm, settings);
-            JsonObject s;
-            s.add_bool("converged", result.converged);
-            s.add_number("iterations", result.iterations);
-            s.add_number("factorizations", result.factorizations);
-            s.add_figure("wall_time", result.seconds, "s");
-            s.add_number("final_relative_residual", result.residual);
-            context.summary.add_object("levenberg_marquardt", s);
-            context.pcout << "inverse Levenberg-Marquardt: "
-                          << (result.converged ? "converged" : "NOT converged") << " in " << result.iterations
-                          << " iterations, " << result.seconds << " s" << std::endl;
-            if (methods.front() == "levenberg-marquardt")
-              {
-                rest = rest_lm;
-                if (!result.converged)
-                  context.partial_reason = "Levenberg-Marquardt did not converge (relative residual " +
-                                           std::to_string(result.residual) + ")";
-              }
+            TimerOutput::Scope    t(context.timer, "inverse Levenberg-Marquardt");
+            const bool            primary = methods.front() == "levenberg-marquardt";
+            const Eigen::VectorXd rest_lm =
+                inverse_levenberg_marquardt_baseline(context, baselines, baseline, primary);
+            if (primary)
+              rest = rest_lm;
           }
 
         if (!load_cases.empty() && uses("anm") && context.partial_reason.empty())
@@ -255,19 +213,21 @@ namespace nlmech
               rest_mesh.vertices[v] = Point<3>(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]);
             HyperelasticProblem forward = make_hyperelastic_problem(rest_mesh, material, conditions, {});
             forward.load                = on_target.load;
-            // Stability of the target as an equilibrium of the rest shape: a positive definite
-            // Hessian there. An unstable target cannot be realised by the fabricated part.
+            x_forward                   = forward.rest_positions;
+            AnmSettings settings        = anm;
+            settings.residual_tolerance = std::min(anm.residual_tolerance, 1e-10);
+            const AnmResult check = AnmSolver(forward.internal, forward.load, settings).solve(x_forward);
+            // Stability of the equilibrium the fabricated part reaches (the target itself with one
+            // target; with several, the main case's forward solution from the compromise): a
+            // positive definite Hessian there. An unstable one cannot be realised by the part.
             SparseFactorization stability;
-            stability.factorize(FreeDofMap(forward.internal).restrict(forward.internal.hessian(x)));
+            stability.factorize(FreeDofMap(forward.internal)
+                                    .restrict(forward.internal.hessian(load_cases.empty() ? x : x_forward)));
             context.summary.add_bool("target_equilibrium_stable", stability.positive_definite());
             if (!stability.positive_definite())
               context.fail_check("the target is an unstable equilibrium of the computed rest shape: a "
                                  "fabricated part would not stay in it (a stiffer material or more supports "
                                  "help)");
-            x_forward                   = forward.rest_positions;
-            AnmSettings settings        = anm;
-            settings.residual_tolerance = std::min(anm.residual_tolerance, 1e-10);
-            const AnmResult check = AnmSolver(forward.internal, forward.load, settings).solve(x_forward);
             context.summary.add_bool("forward_check_completed", check.completed);
             const double error = (x_forward - x).lpNorm<Eigen::Infinity>() / diagonal;
             context.summary.add_figure("round_trip_error_relative_to_diagonal", error, "1");
@@ -308,8 +268,7 @@ namespace nlmech
       HyperelasticLoads              loads;
       std::vector<std::string>       methods;
       AnmSettings                    anm;
-      unsigned int                   newton_steps = 5;
-      NewtonSettings                 newton;
+      InverseBaselineSettings        baselines;
       double                         round_trip_tolerance = 1e-6;
       std::vector<LoadCase>          load_cases;
     };

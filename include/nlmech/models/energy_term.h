@@ -94,6 +94,21 @@ namespace nlmech
   {
   };
 
+  /// Whether an element type brings its own Hessian kernel element_hessian(x_local, e, H), which
+  /// may decline (return false) and leave the element to nested AD.
+  template <typename Element, typename = void>
+  struct has_hessian_kernel : std::false_type
+  {
+  };
+  template <typename Element>
+  struct has_hessian_kernel<Element,
+                            std::void_t<decltype(std::declval<const Element &>().element_hessian(
+                                std::declval<const std::array<double, Element::n_dofs> &>(), std::size_t(0),
+                                std::declval<Eigen::Matrix<double, Element::n_dofs, Element::n_dofs> &>()))>>
+      : std::true_type
+  {
+  };
+
   /// An energy that is a sum over elements, each depending on N unknowns. `Element` provides
   ///   static constexpr std::size_t n_dofs = N;
   ///   std::size_t n_elements() const;
@@ -268,15 +283,21 @@ namespace nlmech
       for_each_block(n_elem, block_size / 2, [&](const std::size_t begin, const std::size_t end) {
         for (std::size_t e = begin; e < end; ++e)
           {
-            const auto             dofs = element.dofs(e);
-            std::array<Hessian, N> local;
-            for (std::size_t i = 0; i < N; ++i)
-              local[i] = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
-            const Hessian               energy = element.energy(local, e);
+            const auto                  dofs = element.dofs(e);
             Eigen::Matrix<double, N, N> block;
-            for (std::size_t i = 0; i < N; ++i)
-              for (std::size_t j = 0; j < N; ++j)
-                block(i, j) = energy.dx(i).dx(j);
+            bool                        done = false;
+            if constexpr (has_hessian_kernel<Element>::value)
+              done = element.element_hessian(gather<double>(x, e), e, block);
+            if (!done)
+              {
+                std::array<Hessian, N> local;
+                for (std::size_t i = 0; i < N; ++i)
+                  local[i] = Hessian(N, i, Gradient(N, i, x[dofs[i]]));
+                const Hessian energy = element.energy(local, e);
+                for (std::size_t i = 0; i < N; ++i)
+                  for (std::size_t j = 0; j < N; ++j)
+                    block(i, j) = energy.dx(i).dx(j);
+              }
             if (project)
               project_to_positive_semidefinite(block);
             for (std::size_t i = 0; i < N; ++i)

@@ -163,6 +163,106 @@ namespace nlmech
     add_nodal_forces(P, e, out);
   }
 
+  namespace
+  {
+    /// Levi-Civita symbol of (i, j, k) in {0, 1, 2}.
+    int permutation_sign(const int i, const int j, const int k)
+    {
+      return (i - j) * (j - k) * (k - i) / 2;
+    }
+  } // namespace
+
+  void HyperelasticTetElements::stress_and_tangent(const double (&F)[3][3], double (&P)[9],
+                                                   double (&C)[9][9]) const
+  {
+    if (law != HyperelasticLaw::neo_hookean)
+      {
+        using Inner = Sacado::Fad::SFad<double, 9>;
+        using Outer = Sacado::Fad::SFad<Inner, 9>;
+        Outer G[3][3];
+        for (int ab = 0; ab < 9; ++ab)
+          G[ab / 3][ab % 3] = Outer(9, ab, Inner(9, ab, F[ab / 3][ab % 3]));
+        const Outer W = energy_density(G);
+        for (int ab = 0; ab < 9; ++ab)
+          {
+            P[ab] = W.dx(ab).val();
+            for (int cd = 0; cd < 9; ++cd)
+              C[ab][cd] = W.dx(ab).dx(cd);
+          }
+        return;
+      }
+    // W = mu/2 (s I_c - 3) + kappa/2 (J - 1)^2, s = J^(-2/3), u = s I_c / J, dJ/dF = cof F:
+    // P = mu s F - mu/3 u cof F + kappa (J - 1) cof F,
+    // ds/dF = -2/3 s/J cof F, du/dF = 2 s/J F - 5/3 u/J cof F, dcof_ij/dF_kl = e_ikm e_jln F_mn.
+    double cof[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        {
+          const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+          cof[i][j] = F[i1][j1] * F[i2][j2] - F[i1][j2] * F[i2][j1];
+        }
+    const double J  = F[0][0] * cof[0][0] + F[0][1] * cof[0][1] + F[0][2] * cof[0][2];
+    double       Ic = 0;
+    for (int ab = 0; ab < 9; ++ab)
+      Ic += F[ab / 3][ab % 3] * F[ab / 3][ab % 3];
+    const double s = std::pow(J, -2.0 / 3.0), u = s * Ic / J, c = kappa * (J - 1) - mu / 3 * u;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        {
+          const int ij = 3 * i + j;
+          P[ij]        = mu * s * F[i][j] + c * cof[i][j];
+          for (int k = 0; k < 3; ++k)
+            for (int l = 0; l < 3; ++l)
+              {
+                const double ds   = -2.0 / 3.0 * s / J * cof[k][l];
+                const double du   = 2 * s / J * F[k][l] - 5.0 / 3.0 * u / J * cof[k][l];
+                double       dcof = 0;
+                if (i != k && j != l)
+                  {
+                    const int m = 3 - i - k, n = 3 - j - l;
+                    dcof = permutation_sign(i, k, m) * permutation_sign(j, l, n) * F[m][n];
+                  }
+                C[ij][3 * k + l] = (i == k && j == l ? mu * s : 0.0) + mu * F[i][j] * ds -
+                                   mu / 3 * du * cof[i][j] + kappa * cof[k][l] * cof[i][j] + c * dcof;
+              }
+        }
+  }
+
+  bool HyperelasticTetElements::element_hessian(const std::array<double, 12> &x, const std::size_t e,
+                                                Eigen::Matrix<double, 12, 12> &H) const
+  {
+    if (!use_stress_tangent)
+      return false;
+    double F[3][3], P[9], C[9][9];
+    deformation_gradient(x, e, F);
+    stress_and_tangent(F, P, C);
+    // dF_ij/dx_{b,k} = delta_ik G[b][j], G[b] = Dinv[b-1] (b = 1..3), G[0] = -sum of the others.
+    const auto &Dinv = rest_shape_inverse[e];
+    double      G[4][3];
+    for (int j = 0; j < 3; ++j)
+      {
+        G[0][j] = 0;
+        for (int b = 1; b < 4; ++b)
+          {
+            G[b][j] = Dinv[b - 1][j];
+            G[0][j] -= G[b][j];
+          }
+      }
+    // H_{(b,k),(c,l)} = V sum_{j,m} C[kj][lm] G[b][j] G[c][m]: first CG[kj][c,l] = sum_m C[kj][lm] G[c][m].
+    double CG[9][12];
+    for (int kj = 0; kj < 9; ++kj)
+      for (int c = 0; c < 4; ++c)
+        for (int l = 0; l < 3; ++l)
+          CG[kj][3 * c + l] =
+              C[kj][3 * l] * G[c][0] + C[kj][3 * l + 1] * G[c][1] + C[kj][3 * l + 2] * G[c][2];
+    for (int b = 0; b < 4; ++b)
+      for (int k = 0; k < 3; ++k)
+        for (int q = 0; q < 12; ++q)
+          H(3 * b + k, q) =
+              volume[e] * (CG[3 * k][q] * G[b][0] + CG[3 * k + 1][q] * G[b][1] + CG[3 * k + 2][q] * G[b][2]);
+    return true;
+  }
+
   HyperelasticTetTerm::HyperelasticTetTerm(const std::vector<dealii::Point<3>>          &rest,
                                            const std::vector<std::vector<unsigned int>> &tets,
                                            const HyperelasticMaterial                   &material)

@@ -105,21 +105,90 @@ namespace nlmech
     return r;
   }
 
-  Eigen::SparseMatrix<double> InverseHyperelasticSystem::tangent(const Eigen::VectorXd &X) const
+  void InverseHyperelasticSystem::element_tangent(const std::size_t e, const std::array<double, 12> &X,
+                                                  Eigen::Matrix<double, 12, 12> &K) const
   {
     using Fad = Sacado::Fad::SFad<double, 12>;
+    std::array<Fad, 12> local;
+    for (int i = 0; i < 12; ++i)
+      local[i] = Fad(12, i, X[i]);
+    if (!use_stress_tangent)
+      {
+        std::array<Fad, 12> force;
+        element_force(e, local, force);
+        for (int i = 0; i < 12; ++i)
+          for (int j = 0; j < 12; ++j)
+            K(i, j) = force[i].dx(j);
+        return;
+      }
+    // r_{a,i} = sum_j P_ij(F) A_{a-1,j} / 6 with A = adj D_m(X), F = D_s A / det D_m: A and F with
+    // their first derivatives in X (Fad over 12, polynomial and rational, cheap), P and dP/dF at F.
+    const auto d = dofs(e);
+    Fad        Dm[3][3], A[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int a = 0; a < 3; ++a)
+        Dm[i][a] = local[3 * (a + 1) + i] - local[i];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        {
+          const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+          A[i][j] = Dm[i1][j1] * Dm[i2][j2] - Dm[i1][j2] * Dm[i2][j1];
+        }
+    const Fad det = Dm[0][0] * A[0][0] + Dm[0][1] * A[1][0] + Dm[0][2] * A[2][0];
+    Fad       F[3][3];
+    double    Fv[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        {
+          Fad value = 0.0;
+          for (int a = 0; a < 3; ++a)
+            value += (target[d[3 * (a + 1) + i]] - target[d[i]]) * A[a][j];
+          F[i][j]  = value / det;
+          Fv[i][j] = F[i][j].val();
+        }
+    double P[9], C[9][9];
+    density.stress_and_tangent(Fv, P, C);
+    // dP_ij/dX_q = sum_kl C[ij][kl] dF_kl/dX_q
+    double dP[9][12];
+    for (int ij = 0; ij < 9; ++ij)
+      for (int q = 0; q < 12; ++q)
+        {
+          double sum = 0;
+          for (int kl = 0; kl < 9; ++kl)
+            sum += C[ij][kl] * F[kl / 3][kl % 3].fastAccessDx(q);
+          dP[ij][q] = sum;
+        }
+    for (int i = 0; i < 3; ++i)
+      for (int q = 0; q < 12; ++q)
+        {
+          double balance = 0;
+          for (int a = 1; a < 4; ++a)
+            {
+              double f = 0;
+              for (int j = 0; j < 3; ++j)
+                f += dP[3 * i + j][q] * A[a - 1][j].val() + P[3 * i + j] * A[a - 1][j].fastAccessDx(q);
+              K(3 * a + i, q) = f / 6.0;
+              balance += f / 6.0;
+            }
+          K(i, q) = -balance;
+        }
+  }
+
+  Eigen::SparseMatrix<double> InverseHyperelasticSystem::tangent(const Eigen::VectorXd &X) const
+  {
     Triplets triplets(144 * tets.size());
     for_each_block(tets.size(), block_size / 2, [&](const std::size_t begin, const std::size_t end) {
       for (std::size_t e = begin; e < end; ++e)
         {
-          const auto          d = dofs(e);
-          std::array<Fad, 12> local, force;
+          const auto             d = dofs(e);
+          std::array<double, 12> local;
           for (int i = 0; i < 12; ++i)
-            local[i] = Fad(12, i, X[d[i]]);
-          element_force(e, local, force);
+            local[i] = X[d[i]];
+          Eigen::Matrix<double, 12, 12> K;
+          element_tangent(e, local, K);
           for (int i = 0; i < 12; ++i)
             for (int j = 0; j < 12; ++j)
-              triplets[144 * e + 12 * i + j] = Eigen::Triplet<double>(int(d[i]), int(d[j]), force[i].dx(j));
+              triplets[144 * e + 12 * i + j] = Eigen::Triplet<double>(int(d[i]), int(d[j]), K(i, j));
         }
     });
     Eigen::SparseMatrix<double> K(X.size(), X.size());

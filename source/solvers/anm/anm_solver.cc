@@ -462,47 +462,103 @@ namespace nlmech
     SparseFactorization   factorization;
     for (const auto &f : system.fixed())
       q[f.first] = f.second;
-    for (unsigned int step = 1; step <= n_steps; ++step)
+
+    // Newton at one load factor from q; false (q unchanged) when it does not converge in the
+    // iteration limit or the line search finds no decrease. The factorisation is left at the last
+    // tangent (the predictor of the next step uses it).
+    const auto newton_at = [&](const double lambda, Eigen::VectorXd &state, unsigned int &iterations) {
+      auto residual = [&](const Eigen::VectorXd &s) {
+        return Eigen::VectorXd(free.restrict(system.internal_force(s)) - lambda * g);
+      };
+      Eigen::VectorXd x        = state;
+      Eigen::VectorXd R        = residual(x);
+      double          previous = std::numeric_limits<double>::max();
+      iterations               = 0;
+      for (;; ++iterations)
+        {
+          if (!R.allFinite())
+            return false;
+          // Converged, or stagnating at the round-off floor well below the requested accuracy.
+          if (R.norm() <= relative_tolerance * g.norm() ||
+              (iterations > 0 && R.norm() > 0.5 * previous && R.norm() <= 1e-6 * g.norm()))
+            break;
+          if (iterations >= newton.max_iterations)
+            return false;
+          previous = R.norm();
+          try
+            {
+              factorization.factorize(free.restrict(system.tangent(x)), system.symmetric_tangent());
+            }
+          catch (const dealii::ExceptionBase &)
+            {
+              return false; // a singular tangent: a smaller load increment may avoid it
+            }
+          const Eigen::VectorXd dq       = free.expand(factorization.solve(-R));
+          const double          safe     = system.max_safe_step(x, dq);
+          double                alpha    = safe < 1.0 ? 0.9 * safe : 1.0;
+          bool                  accepted = false;
+          for (unsigned int ls = 0; ls < newton.max_line_search; ++ls, alpha *= 0.5)
+            {
+              const Eigen::VectorXd trial = x + alpha * dq;
+              if (!system.is_valid(trial))
+                continue;
+              const Eigen::VectorXd R_trial = residual(trial);
+              if (R_trial.allFinite() && R_trial.norm() < (1 - 1e-4 * alpha) * R.norm())
+                {
+                  x = trial, R = R_trial, accepted = true;
+                  break;
+                }
+            }
+          if (!accepted)
+            return false;
+        }
+      state = x;
+      return true;
+    };
+
+    // Adaptive load steps: the increment starts at 1 / n_steps, halves after a failed step (from
+    // the last equilibrium) and doubles after a step that converged in at most four iterations.
+    // Each step starts from the tangent predictor q + dlambda K^{-1} g (K from the last
+    // factorisation, the tangent near the last equilibrium), cut back to stay valid.
+    double       lambda = 0, increment = 1.0 / n_steps;
+    const double smallest       = 1.0 / (n_steps * 1024.0);
+    bool         have_predictor = false;
+    while (lambda < 1)
       {
-        const double lambda   = double(step) / n_steps;
-        auto         residual = [&](const Eigen::VectorXd &state) {
-          return Eigen::VectorXd(free.restrict(system.internal_force(state)) - lambda * g);
-        };
-        Eigen::VectorXd R        = residual(q);
-        double          previous = std::numeric_limits<double>::max();
-        for (unsigned int it = 0;; ++it)
+        const double    step_to = std::min(1.0, lambda + increment);
+        Eigen::VectorXd trial   = q;
+        if (have_predictor)
           {
-            // Converged, or stagnating at the round-off floor well below the requested accuracy.
-            if (R.norm() <= relative_tolerance * g.norm() ||
-                (it > 0 && R.norm() > 0.5 * previous && R.norm() <= 1e-6 * g.norm()))
-              break;
-            previous = R.norm();
-            AssertThrow(it < newton.max_iterations,
+            const Eigen::VectorXd dq   = free.expand(factorization.solve(g)) * (step_to - lambda);
+            const double          safe = system.max_safe_step(q, dq);
+            trial += (safe < 1.0 ? 0.9 * safe : 1.0) * dq;
+            if (!system.is_valid(trial))
+              trial = q;
+          }
+        unsigned int iterations = 0;
+        if (newton_at(step_to, trial, iterations))
+          {
+            result.smallest_increment = std::min(result.smallest_increment, step_to - lambda);
+            q                         = trial;
+            lambda                    = step_to;
+            result.iterations += iterations;
+            ++result.load_steps;
+            have_predictor = factorization.n_factorizations > 0;
+            if (iterations <= 4)
+              increment *= 2;
+          }
+        else
+          {
+            result.iterations += iterations;
+            ++result.rejected_steps;
+            increment *= 0.5;
+            have_predictor = false; // the factorisation is at a rejected state now
+            AssertThrow(increment >= smallest,
                         dealii::ExcMessage("Newton did not converge at load factor " +
-                                           std::to_string(lambda) + " (relative residual " +
-                                           std::to_string(R.norm() / g.norm()) + ")."));
-            factorization.factorize(free.restrict(system.tangent(q)), system.symmetric_tangent());
-            const Eigen::VectorXd dq       = free.expand(factorization.solve(-R));
-            const double          safe     = system.max_safe_step(q, dq);
-            double                alpha    = safe < 1.0 ? 0.9 * safe : 1.0;
-            bool                  accepted = false;
-            for (unsigned int ls = 0; ls < newton.max_line_search; ++ls, alpha *= 0.5)
-              {
-                const Eigen::VectorXd trial = q + alpha * dq;
-                if (!system.is_valid(trial))
-                  continue;
-                const Eigen::VectorXd R_trial = residual(trial);
-                if (R_trial.allFinite() && R_trial.norm() < (1 - 1e-4 * alpha) * R.norm())
-                  {
-                    q = trial, R = R_trial, accepted = true;
-                    break;
-                  }
-              }
-            AssertThrow(accepted,
-                        dealii::ExcMessage("Newton: the line search found no decrease of the residual at "
-                                           "load factor " +
-                                           std::to_string(lambda) + "."));
-            ++result.iterations;
+                                           std::to_string(step_to) + " even with load increments of " +
+                                           std::to_string(2 * increment) + " (" +
+                                           std::to_string(result.load_steps) + " steps accepted, " +
+                                           std::to_string(result.rejected_steps) + " rejected)."));
           }
       }
     result.factorizations = factorization.n_factorizations;

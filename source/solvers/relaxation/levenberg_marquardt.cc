@@ -5,6 +5,7 @@
 #include <nlmech/solvers/relaxation/levenberg_marquardt.h>
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/multithread_info.h>
 
 #include <ceres/ceres.h>
 
@@ -169,7 +170,8 @@ namespace nlmech
     options.gradient_tolerance                 = 0; // iteration limit) end the solve
     options.parameter_tolerance                = 0;
     options.max_num_consecutive_invalid_steps  = 30;
-    options.num_threads                        = 1;
+    options.max_solver_time_in_seconds         = settings.max_seconds;
+    options.num_threads                        = int(dealii::MultithreadInfo::n_threads());
     options.logging_type                       = ceres::SILENT;
     options.minimizer_progress_to_stdout       = false;
     options.update_state_every_iteration       = true;
@@ -187,6 +189,7 @@ namespace nlmech
     result.factorizations   = unsigned(summary.num_linear_solves);
     result.residual         = R.norm() / g_norm;
     result.converged = std::isfinite(result.residual) && result.residual <= settings.relative_tolerance;
+    result.capped    = !result.converged && (summary.termination_type == ceres::NO_CONVERGENCE);
     result.seconds   = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   }

@@ -60,6 +60,66 @@ TEST_P(HyperelasticLaws, DerivativesMatchFiniteDifferences)
   EXPECT_LT(check.hessian_error, 1e-6);
 }
 
+TEST_P(HyperelasticLaws, StressTangentEqualsNestedAutomaticDifferentiation)
+{
+  // P and dP/dF of stress_and_tangent against forward AD on energy_density (P) and central
+  // differences of P (C); the element Hessian V B^T C B against nested AD over the 12 unknowns.
+  const RawSimplexMesh<3>   mesh = block_mesh(0.5);
+  const HyperelasticTetTerm term(mesh.vertices, mesh.cells, rubber(GetParam()));
+  HyperelasticTetElements   el      = term.elements();
+  const Eigen::VectorXd     x       = perturbed_positions(mesh, 0.05, 9);
+  double                    worst_P = 0, worst_C = 0, worst_H = 0, scale_P = 0, scale_C = 0, scale_H = 0;
+  for (std::size_t e = 0; e < el.n_elements(); e += 7)
+    {
+      const auto             dofs = el.dofs(e);
+      std::array<double, 12> local;
+      for (int i = 0; i < 12; ++i)
+        local[i] = x[dofs[i]];
+      double F[3][3], P[9], C[9][9];
+      el.deformation_gradient(local, e, F);
+      el.stress_and_tangent(F, P, C);
+      using Dual = ForwardGradient<double, 9>;
+      Dual G[3][3];
+      for (int ab = 0; ab < 9; ++ab)
+        G[ab / 3][ab % 3] = Dual(F[ab / 3][ab % 3], ab);
+      const Dual W = el.energy_density(G);
+      for (int ab = 0; ab < 9; ++ab)
+        {
+          worst_P        = std::max(worst_P, std::abs(P[ab] - W.dx[ab]));
+          scale_P        = std::max(scale_P, std::abs(W.dx[ab]));
+          const double h = 1e-6;
+          double       Fp[3][3], Fm[3][3], Pp[9], Pm[9], Cp[9][9];
+          std::copy(&F[0][0], &F[0][0] + 9, &Fp[0][0]);
+          std::copy(&F[0][0], &F[0][0] + 9, &Fm[0][0]);
+          Fp[ab / 3][ab % 3] += h, Fm[ab / 3][ab % 3] -= h;
+          el.stress_and_tangent(Fp, Pp, Cp);
+          el.stress_and_tangent(Fm, Pm, Cp);
+          for (int cd = 0; cd < 9; ++cd)
+            {
+              worst_C = std::max(worst_C, std::abs(C[cd][ab] - (Pp[cd] - Pm[cd]) / (2 * h)));
+              scale_C = std::max(scale_C, std::abs(C[cd][ab]));
+            }
+        }
+      Eigen::Matrix<double, 12, 12> H, H_ad;
+      el.use_stress_tangent = true;
+      ASSERT_TRUE(el.element_hessian(local, e, H));
+      using Inner = Sacado::Fad::SFad<double, 12>;
+      using Outer = Sacado::Fad::SFad<Inner, 12>;
+      std::array<Outer, 12> nested;
+      for (int i = 0; i < 12; ++i)
+        nested[i] = Outer(12, i, Inner(12, i, local[i]));
+      const Outer energy = el.energy(nested, e);
+      for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j)
+          H_ad(i, j) = energy.dx(i).dx(j);
+      worst_H = std::max(worst_H, (H - H_ad).lpNorm<Eigen::Infinity>());
+      scale_H = std::max(scale_H, H_ad.lpNorm<Eigen::Infinity>());
+    }
+  EXPECT_LT(worst_P, 1e-12 * scale_P);
+  EXPECT_LT(worst_C, 1e-6 * scale_C);
+  EXPECT_LT(worst_H, 1e-12 * scale_H);
+}
+
 TEST_P(HyperelasticLaws, SeriesGradientMatchesDerivativesAlongAPath)
 {
   // x(a) = x0 + a x1 + a^2 x2: the Taylor coefficients of grad E(x(a)) of orders 1 and 2 against

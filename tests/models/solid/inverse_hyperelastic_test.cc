@@ -83,6 +83,11 @@ TEST(InverseHyperelastic, ForceEqualsForwardGradientAndTangentMatchesDifferences
     }
   EXPECT_LT(worst, 1e-5 * K.lpNorm<Eigen::Infinity>());
   EXPECT_GT((K - K.transpose()).lpNorm<Eigen::Infinity>(), 1e-3 * K.lpNorm<Eigen::Infinity>());
+  // The stress-tangent kernel against nested AD over element_force.
+  InverseHyperelasticSystem by_ad(mesh, target, silicone(), vertices_of(mesh, "x0"));
+  by_ad.use_stress_tangent = false;
+  EXPECT_LT((K - Eigen::MatrixXd(by_ad.tangent(rest))).lpNorm<Eigen::Infinity>(),
+            1e-12 * K.lpNorm<Eigen::Infinity>());
 
   // Series: coefficient 2 along X(a) = X0 + a X1 (+ K X2) against second differences.
   Eigen::VectorXd X1 = Eigen::VectorXd::Zero(rest.size());
@@ -264,22 +269,70 @@ TEST_F(StiffBar, LevenbergMarquardtByCeresFindsTheAnmRestShape)
     EXPECT_EQ(lm[f.first], f.second);
 }
 
+namespace
+{
+  /// The bar of prm/inverse-bar.prm at 15 mm (0.3 m x 0.03 m x 0.03 m, clamped at x = 0) as the
+  /// target, under its weight: load, target positions and the inverse system.
+  struct BarUnderItsWeight
+  {
+    explicit BarUnderItsWeight(const HyperelasticMaterial &material)
+        : material(material)
+    {
+      MeshOptions options{
+          source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}, ""};
+      mesh = read_simplex_mesh<3>(options, 3);
+      HyperelasticLoads loads;
+      loads.gravity      = Tensor<1, 3>({0, 0, -9.81});
+      conditions.clamped = {"clamped"};
+      g                  = make_hyperelastic_problem(mesh, material, conditions, loads).load;
+      x                  = positions(mesh);
+      system = std::make_unique<InverseHyperelasticSystem>(mesh, x, material, vertices_of(mesh, "clamped"));
+    }
+    HyperelasticMaterial                       material;
+    RawSimplexMesh<3>                          mesh;
+    HyperelasticBoundaryConditions             conditions;
+    Eigen::VectorXd                            g, x;
+    std::unique_ptr<InverseHyperelasticSystem> system;
+  };
+} // namespace
+
+TEST(InverseHyperelastic, AdaptiveLoadStepsTakeNewtonWhereOneStepFails)
+{
+  // The soft bar of prm/inverse-bar.prm (E = 1 MPa, tip sag ~0.15 m): the inverse residual is so
+  // nonlinear along a rest-shape bend (per-element rotations leave the force unchanged to first
+  // order, not to second) that Newton from X = x stalls at the first increment of 1/20 unless the
+  // increment shrinks. Adaptive steps from one step of 1 must reach the ANM rest shape.
+  const BarUnderItsWeight          bar(silicone(1e6));
+  const Eigen::VectorXd           &g = bar.g, &x = bar.x;
+  const InverseHyperelasticSystem &system = *bar.system;
+  Eigen::VectorXd                  rest   = x;
+  AnmSettings                      settings;
+  settings.residual_tolerance = 1e-10;
+  ASSERT_TRUE(AnmSolver(system, g, settings).solve(rest).completed);
+
+  NewtonSettings newton;
+  newton.max_iterations              = 15;
+  Eigen::VectorXd          by_newton = x;
+  const LoadSteppingResult r         = solve_equilibrium_with_newton(system, g, by_newton, 1, 1e-10, newton);
+  std::printf("adaptive Newton: %u load steps, %u rejected, smallest increment %g, %u iterations\n",
+              r.load_steps, r.rejected_steps, r.smallest_increment, r.iterations);
+  EXPECT_GT(r.rejected_steps, 0u); // one step of 1 is too much
+  EXPECT_LT(r.smallest_increment, 1.0);
+  EXPECT_GT((rest - x).lpNorm<Eigen::Infinity>(), 0.05);
+  EXPECT_LT((by_newton - rest).lpNorm<Eigen::Infinity>(), 1e-7 * (rest - x).lpNorm<Eigen::Infinity>());
+}
+
 TEST(InverseHyperelastic, MultiTargetRestShapeByReducedBasis)
 {
   // Paper section 5.2 on two load cases of one target (the bar straight under g and under 1.5 g):
   // individual rest shapes, the reduced-basis least-squares rest shape, and the forward results.
-  MeshOptions options{
-      source_dir + "/meshes/cantilever.geo", 0.015, {{"L", 0.3}, {"W", 0.03}, {"H", 0.03}}, ""};
-  const RawSimplexMesh<3>    mesh     = read_simplex_mesh<3>(options, 3);
-  const HyperelasticMaterial material = silicone(1e6);
-  HyperelasticLoads          loads;
-  loads.gravity = Tensor<1, 3>({0, 0, -9.81});
-  HyperelasticBoundaryConditions conditions;
-  conditions.clamped                = {"clamped"};
-  const Eigen::VectorXd           g = make_hyperelastic_problem(mesh, material, conditions, loads).load;
-  const Eigen::VectorXd           x = positions(mesh);
-  const InverseHyperelasticSystem system(mesh, x, material, vertices_of(mesh, "clamped"));
-  AnmSettings                     settings;
+  const BarUnderItsWeight          bar(silicone(1e6));
+  const RawSimplexMesh<3>         &mesh     = bar.mesh;
+  const HyperelasticMaterial      &material = bar.material;
+  const Eigen::VectorXd           &g = bar.g, &x = bar.x;
+  const InverseHyperelasticSystem &system     = *bar.system;
+  const auto                      &conditions = bar.conditions;
+  AnmSettings                      settings;
   settings.residual_tolerance = 1e-10;
   std::vector<AnmSeries>       series;
   std::vector<Eigen::VectorXd> individual;

@@ -132,6 +132,18 @@ namespace nlmech
     /// Use the recurrences for neo-Hookean (default); false forces the truncated-series kernel.
     bool use_recurrences = true;
 
+    /// The first Piola stress P = dW/dF and its derivative C = d2W/dF2 (row-major 3x3 pairs:
+    /// C[3i+j][3k+l] = dP_ij/dF_kl) at F: in closed form for neo-Hookean, by forward AD over
+    /// energy_density in the 9 entries of F for St.Venant-Kirchhoff.
+    void stress_and_tangent(const double (&F)[3][3], double (&P)[9], double (&C)[9][9]) const;
+    /// The element Hessian H = V B^T C B (B = dF/dx, constant per element) from the stress
+    /// tangent: the same matrix as nested AD over the 12 unknowns, at a fraction of the cost.
+    /// Returns false (H untouched) when use_stress_tangent is off.
+    bool element_hessian(const std::array<double, 12> &x, std::size_t e,
+                         Eigen::Matrix<double, 12, 12> &H) const;
+    /// Use the W(F)-level tangent for Hessians (default); false forces nested AD over x.
+    bool use_stress_tangent = true;
+
     HyperelasticLaw                                   law;
     double                                            mu, kappa, lambda;
     std::vector<std::array<unsigned int, 4>>          tets;

@@ -53,6 +53,13 @@ namespace nlmech
                                               std::size_t e, std::array<double, 12> &force) const;
     /// Use the recurrences for neo-Hookean (default); false forces the generic kernel.
     bool use_recurrences = true;
+    /// The element tangent dr/dX from the stress tangent dP/dF (HyperelasticTetElements::
+    /// stress_and_tangent) and first derivatives of adj D_m and F in X (default); false: nested AD
+    /// over element_force.
+    bool use_stress_tangent = true;
+    /// The 12 x 12 tangent of element e (row: force entry, column: rest coordinate).
+    void element_tangent(std::size_t e, const std::array<double, 12> &X,
+                         Eigen::Matrix<double, 12, 12> &K) const;
 
     static constexpr std::size_t block_size = 256; // elements per task of the threaded loops
 

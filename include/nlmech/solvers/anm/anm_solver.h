@@ -59,11 +59,14 @@ namespace nlmech
     double series_seconds = 0, factorization_seconds = 0, solve_seconds = 0, total_seconds = 0;
   };
 
-  /// Newton with line search at increasing load factors lambda = i / n_steps (the baseline).
+  /// Newton with line search at increasing load factors (the baseline): fixed steps i / n_steps
+  /// for energies, adaptive ones for equilibrium systems.
   struct LoadSteppingResult
   {
     unsigned int iterations = 0, factorizations = 0;
-    double       seconds = 0;
+    unsigned int load_steps = 0, rejected_steps = 0; // accepted and cut-back load increments
+    double       smallest_increment = 1;             // of the accepted load increments
+    double       seconds            = 0;
   };
 
   /// One ANM series (x(a), lambda(a)) = sum_k a^k (x_k, lambda_k) around a known solution, with the
@@ -122,8 +125,10 @@ namespace nlmech
     AnmSettings                              settings;
   };
 
-  /// Newton with backtracking on |R| for r(q) = g, load stepped (works for non-symmetric tangents);
-  /// `newton` gives the iteration and line-search limits per load step.
+  /// Newton with backtracking on |R| for r(q) = g (works for non-symmetric tangents), load stepped
+  /// adaptively: increments from 1 / n_steps, halved after a failed step (down to 1/1024 of that,
+  /// then it throws) and doubled after one that took at most four iterations; each step starts from
+  /// the tangent predictor. `newton` gives the iteration and line-search limits per load step.
   LoadSteppingResult solve_equilibrium_with_newton(const EquilibriumSystem &system,
                                                    const Eigen::VectorXd &load, Eigen::VectorXd &q,
                                                    unsigned int n_steps, double relative_tolerance = 1e-9,

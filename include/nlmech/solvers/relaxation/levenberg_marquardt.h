@@ -12,12 +12,14 @@ namespace nlmech
   {
     double       relative_tolerance = 1e-9;
     unsigned int max_iterations     = 2000;
+    double       max_seconds        = 1e9;  // wall-time cap (Ceres' solver time limit)
     double       initial_damping    = 1e-3; // 1 / Ceres' initial trust-region radius
   };
 
   struct LevenbergMarquardtResult
   {
     bool         converged      = false;
+    bool         capped         = false; // stopped by the iteration or time cap
     unsigned int iterations     = 0;
     unsigned int factorizations = 0;
     double       residual       = 0; // relative
