@@ -38,22 +38,47 @@ namespace nlmech
       h.emplace_back(e.row(), e.col(), -e.value() / (2 * eps));
   }
 
+  namespace
+  {
+    /// The sum of every term's contribution to one vector: the terms that give this rank's part
+    /// first, summed over the sharing ranks, then the whole ones.
+    template <typename Add>
+    Eigen::VectorXd summed_vector(const std::vector<std::shared_ptr<const EnergyTerm>> &terms,
+                                  const std::size_t n, const Add &add)
+    {
+      Eigen::VectorXd out     = Eigen::VectorXd::Zero(n);
+      bool            partial = false;
+      for (const auto &t : terms)
+        if (t->partial_over_ranks())
+          add(*t, out), partial = true;
+      if (partial)
+        sum_over_sharing_ranks(out.data(), out.size());
+      for (const auto &t : terms)
+        if (!t->partial_over_ranks())
+          add(*t, out);
+      return out;
+    }
+  } // namespace
+
   Eigen::VectorXd Model::hessian_vector_product(const Eigen::VectorXd &x, const Eigen::VectorXd &v) const
   {
-    Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
-    for (const auto &t : energy_terms)
-      t->add_hessian_vector_product(x, v, out);
-    return out;
+    return summed_vector(energy_terms, n, [&](const EnergyTerm &t, Eigen::VectorXd &out) {
+      t.add_hessian_vector_product(x, v, out);
+    });
   }
 
   Eigen::SparseMatrix<double> Model::directional_hessian(const Eigen::VectorXd &x,
                                                          const Eigen::VectorXd &v) const
   {
-    Triplets triplets;
+    Triplets partial, whole;
     for (const auto &t : energy_terms)
-      t->add_directional_hessian(x, v, triplets);
-    Eigen::SparseMatrix<double> h(n, n);
-    h.setFromTriplets(triplets.begin(), triplets.end());
+      t->add_directional_hessian(x, v, t->partial_over_ranks() ? partial : whole);
+    // The partial triplets have the same pattern on every rank (zeros for others' elements).
+    Eigen::SparseMatrix<double> h(n, n), w(n, n);
+    h.setFromTriplets(partial.begin(), partial.end());
+    sum_over_sharing_ranks(h.valuePtr(), h.nonZeros());
+    w.setFromTriplets(whole.begin(), whole.end());
+    h += w;
     return h;
   }
 
@@ -92,18 +117,16 @@ namespace nlmech
 
   double Model::energy(const Eigen::VectorXd &x) const
   {
-    double e = 0;
+    double partial = 0, whole = 0;
     for (const auto &t : energy_terms)
-      e += t->value(x);
-    return e;
+      (t->partial_over_ranks() ? partial : whole) += t->value(x);
+    return sum_over_sharing_ranks(partial) + whole;
   }
 
   Eigen::VectorXd Model::gradient(const Eigen::VectorXd &x) const
   {
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
-    for (const auto &t : energy_terms)
-      t->add_gradient(x, g);
-    return g;
+    return summed_vector(energy_terms, n,
+                         [&](const EnergyTerm &t, Eigen::VectorXd &out) { t.add_gradient(x, out); });
   }
 
   Eigen::SparseMatrix<double> Model::hessian(const Eigen::VectorXd &x, const bool projected) const
@@ -111,9 +134,26 @@ namespace nlmech
     std::lock_guard<std::mutex> hold(hessian_assembly->lock());
     Triplets                   &triplets = hessian_assembly->buffer();
     triplets.clear();
+    // The partial terms' triplets have the same pattern on every rank: their matrix is summed
+    // over the ranks value by value; the whole terms' are added after.
+    Triplets whole;
+    bool     partial = false;
     for (const auto &t : energy_terms)
-      projected ? t->add_projected_hessian(x, triplets) : t->add_hessian(x, triplets);
-    return hessian_assembly->assemble(n, triplets);
+      {
+        Triplets &into = t->partial_over_ranks() ? (partial = true, triplets) : whole;
+        projected ? t->add_projected_hessian(x, into) : t->add_hessian(x, into);
+      }
+    if (!partial)
+      return hessian_assembly->assemble(n, whole);
+    Eigen::SparseMatrix<double> h = hessian_assembly->assemble(n, triplets);
+    sum_over_sharing_ranks(h.valuePtr(), h.nonZeros());
+    if (!whole.empty())
+      {
+        Eigen::SparseMatrix<double> w(n, n);
+        w.setFromTriplets(whole.begin(), whole.end());
+        h += w;
+      }
+    return h;
   }
 
   Eigen::SparseMatrix<double> Model::projected_hessian(const Eigen::VectorXd &x) const
@@ -124,10 +164,9 @@ namespace nlmech
   Eigen::VectorXd Model::gradient_series_coefficient(const std::vector<Eigen::VectorXd> &path,
                                                      const unsigned int                  k) const
   {
-    Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
-    for (const auto &t : energy_terms)
-      t->add_gradient_series_coefficient(path, k, out);
-    return out;
+    return summed_vector(energy_terms, n, [&](const EnergyTerm &t, Eigen::VectorXd &out) {
+      t.add_gradient_series_coefficient(path, k, out);
+    });
   }
 
   bool Model::has_series() const

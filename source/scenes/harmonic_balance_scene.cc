@@ -8,6 +8,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/base/progress.h>
+#include <nlmech/base/rank_sharing.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/scenes/hbm/response_output.h>
@@ -54,6 +55,9 @@ namespace nlmech
 
       void run(RunContext &context) override
       {
+        // Under mpirun every rank evaluates its block of the elements; the solvers see the sums.
+        const ShareElementsOverRanks sharing(context.comm);
+        context.summary.add_number("element_sharing_ranks", element_sharing_ranks());
         PeriodicStructure s;
         {
           TimerOutput::Scope t(context.timer, "model");

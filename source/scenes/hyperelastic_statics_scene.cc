@@ -7,6 +7,7 @@
 
 #include <nlmech/base/atomic_output.h>
 #include <nlmech/base/gravity_parameter.h>
+#include <nlmech/base/rank_sharing.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/mesh/vertex_field_output.h>
@@ -109,6 +110,9 @@ namespace nlmech
 
       void run(RunContext &context) override
       {
+        // Under mpirun every rank evaluates its block of the elements; the solvers see the sums.
+        const ShareElementsOverRanks sharing(context.comm);
+        context.summary.add_number("element_sharing_ranks", element_sharing_ranks());
         RawSimplexMesh<3> raw;
         {
           TimerOutput::Scope t(context.timer, "mesh (gmsh + checks)");

@@ -9,6 +9,7 @@
 
 #include <nlmech/base/atomic_output.h>
 #include <nlmech/base/gravity_parameter.h>
+#include <nlmech/base/rank_sharing.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
 #include <nlmech/mesh/msh_output.h>
@@ -118,6 +119,9 @@ namespace nlmech
 
       void run(RunContext &context) override
       {
+        // Under mpirun every rank evaluates its block of the elements; the solvers see the sums.
+        const ShareElementsOverRanks sharing(context.comm);
+        context.summary.add_number("element_sharing_ranks", element_sharing_ranks());
         RawSimplexMesh<3> target_mesh;
         {
           TimerOutput::Scope t(context.timer, "mesh (gmsh + checks)");
@@ -191,9 +195,11 @@ namespace nlmech
               rest = rest_lm;
           }
 
+        Eigen::VectorXd forward_of_case_1; // the multi-target design's own forward solve of case 1
         if (!load_cases.empty() && uses("anm") && context.partial_reason.empty())
-          rest = multi_target_rest_shape(context, {load_cases, mesh, loads, material, anm}, target_mesh,
-                                         system, on_target.load, rest, conditions, support_vertices);
+          rest =
+              multi_target_rest_shape(context, {load_cases, mesh, loads, material, anm}, target_mesh, system,
+                                      on_target.load, rest, conditions, support_vertices, &forward_of_case_1);
 
         // Verification: forward from the rest shape under the same loads must return the target.
         double lo[3], hi[3];
@@ -216,7 +222,11 @@ namespace nlmech
             x_forward                   = forward.rest_positions;
             AnmSettings settings        = anm;
             settings.residual_tolerance = std::min(anm.residual_tolerance, 1e-10);
-            const AnmResult check = AnmSolver(forward.internal, forward.load, settings).solve(x_forward);
+            AnmResult check;
+            if (forward_of_case_1.size() > 0)
+              x_forward = forward_of_case_1, check.completed = true;
+            else
+              check = AnmSolver(forward.internal, forward.load, settings).solve(x_forward);
             // Stability of the equilibrium the fabricated part reaches (the target itself with one
             // target; with several, the main case's forward solution from the compromise): a
             // positive definite Hessian there. An unstable one cannot be realised by the part.

@@ -38,21 +38,23 @@ namespace nlmech
       dealii::parallel::apply_to_subranges(std::size_t(0), n_blocks, blocks, 1);
   }
 
-  /// out[dofs(e)[i]] += v_e[i] for the element vectors local(e, v_e) of n elements (v_e zeroed
-  /// before, N entries in the element's numbering), computed in blocks on deal.II's threads into a
-  /// buffer and added in element order: bit for bit what one thread computes.
+  /// out[dofs(e)[i]] += v_e[i] for the element vectors local(e, v_e) of the elements
+  /// [begin, end) (v_e zeroed before, N entries in the element's numbering), computed in blocks on
+  /// deal.II's threads into a buffer and added in element order: bit for bit what one thread
+  /// computes.
   template <std::size_t N, typename Vector, typename Dofs, typename Local>
-  void add_element_vectors(const std::size_t n, const std::size_t block_size, const Dofs &dofs,
-                           const Local &local, Vector &out)
+  void add_element_vectors(const std::size_t begin, const std::size_t end, const std::size_t block_size,
+                           const Dofs &dofs, const Local &local, Vector &out)
   {
     auto add = [&](const std::size_t e, const std::array<double, N> &v) {
       const auto d = dofs(e);
       for (std::size_t i = 0; i < N; ++i)
         out[d[i]] += v[i];
     };
+    const std::size_t n = end - begin;
     if (n <= block_size || dealii::MultithreadInfo::n_threads() == 1)
       {
-        for (std::size_t e = 0; e < n; ++e)
+        for (std::size_t e = begin; e < end; ++e)
           {
             std::array<double, N> v{};
             local(e, v);
@@ -61,11 +63,19 @@ namespace nlmech
         return;
       }
     std::vector<std::array<double, N>> buffer(n); // value-initialised: zeros
-    for_each_block(n, block_size, [&](const std::size_t begin, const std::size_t end) {
-      for (std::size_t e = begin; e < end; ++e)
-        local(e, buffer[e]);
+    for_each_block(n, block_size, [&](const std::size_t first, const std::size_t last) {
+      for (std::size_t i = first; i < last; ++i)
+        local(begin + i, buffer[i]);
     });
-    for (std::size_t e = 0; e < n; ++e)
-      add(e, buffer[e]);
+    for (std::size_t i = 0; i < n; ++i)
+      add(begin + i, buffer[i]);
+  }
+
+  /// The same over all n elements.
+  template <std::size_t N, typename Vector, typename Dofs, typename Local>
+  void add_element_vectors(const std::size_t n, const std::size_t block_size, const Dofs &dofs,
+                           const Local &local, Vector &out)
+  {
+    add_element_vectors<N>(0, n, block_size, dofs, local, out);
   }
 } // namespace nlmech

@@ -4,6 +4,7 @@
 // state valid, how far can a step go). ElementEnergyTerm writes an element's energy once, as a
 // template on the scalar type, and derives gradient and Hessian by forward AD (Trilinos Sacado).
 
+#include <nlmech/base/rank_sharing.h>
 #include <nlmech/base/threads.h>
 
 #include <Eigen/Eigenvalues>
@@ -38,6 +39,12 @@ namespace nlmech
   public:
     virtual ~EnergyTerm()            = default;
     virtual std::string name() const = 0;
+
+    /// Whether value, gradient, Hessian, Hessian products and series are this rank's part only
+    /// (its block of the elements, inside a ShareElementsOverRanks scope); the Model sums such
+    /// parts over the ranks. Hessian triplets keep the whole pattern (zeros elsewhere), so that
+    /// every rank assembles the same sparsity and the sum is one all-reduce of the values.
+    virtual bool partial_over_ranks() const { return false; }
 
     virtual double value(const Eigen::VectorXd &x) const = 0;
     /// g += dE/dx
@@ -132,15 +139,17 @@ namespace nlmech
 
     std::string    name() const override { return term_name; }
     const Element &elements() const { return element; }
+    bool           partial_over_ranks() const override { return element_sharing_ranks() > 1; }
 
     double value(const Eigen::VectorXd &x) const override
     {
       // Element values first (on threads), then summed in element order: the same total for
       // every thread count.
-      std::vector<double> values(element.n_elements());
+      const auto          owned = owned_elements(element.n_elements());
+      std::vector<double> values(owned.second - owned.first);
       for_each_block(values.size(), block_size, [&](const std::size_t begin, const std::size_t end) {
-        for (std::size_t e = begin; e < end; ++e)
-          values[e] = element.energy(gather<double>(x, e), e);
+        for (std::size_t i = begin; i < end; ++i)
+          values[i] = element.energy(gather<double>(x, owned.first + i), owned.first + i);
       });
       double total = 0;
       for (const double v : values)
@@ -192,9 +201,10 @@ namespace nlmech
     void add_directional_hessian(const Eigen::VectorXd &x, const Eigen::VectorXd &v,
                                  Triplets &h) const override
     {
-      using Direction = Sacado::Fad::SFad<double, 1>;
-      using Inner     = Sacado::Fad::SFad<Direction, N>;
-      using Outer     = Sacado::Fad::SFad<Inner, N>;
+      using Direction  = Sacado::Fad::SFad<double, 1>;
+      using Inner      = Sacado::Fad::SFad<Direction, N>;
+      using Outer      = Sacado::Fad::SFad<Inner, N>;
+      const auto owned = owned_elements(element.n_elements());
       for (std::size_t e = 0; e < element.n_elements(); ++e)
         {
           const auto dofs   = element.dofs(e);
@@ -203,6 +213,14 @@ namespace nlmech
             moving = moving || v[dofs[i]] != 0;
           if (!moving)
             continue;
+          if (e < owned.first || e >= owned.second)
+            {
+              // Another rank's element: its pattern, not its values (the same on every rank).
+              for (std::size_t i = 0; i < N; ++i)
+                for (std::size_t j = 0; j < N; ++j)
+                  h.emplace_back(dofs[i], dofs[j], 0.0);
+              continue;
+            }
           std::array<Outer, N> local;
           for (std::size_t i = 0; i < N; ++i)
             {
@@ -279,13 +297,23 @@ namespace nlmech
     void element_hessians(const Eigen::VectorXd &x, Triplets &h, const bool project) const
     {
       const std::size_t n_elem = element.n_elements(), first = h.size();
+      const auto        owned = owned_elements(n_elem);
       h.resize(first + n_elem * N * N);
       for_each_block(n_elem, block_size / 2, [&](const std::size_t begin, const std::size_t end) {
         for (std::size_t e = begin; e < end; ++e)
           {
             const auto                  dofs = element.dofs(e);
             Eigen::Matrix<double, N, N> block;
-            bool                        done = false;
+            if (e < owned.first || e >= owned.second)
+              {
+                // Another rank's element: its pattern, not its values.
+                for (std::size_t i = 0; i < N; ++i)
+                  for (std::size_t j = 0; j < N; ++j)
+                    h[first + e * N * N + i * N + j] =
+                        Eigen::Triplet<double>(int(dofs[i]), int(dofs[j]), 0.0);
+                continue;
+              }
+            bool done = false;
             if constexpr (has_hessian_kernel<Element>::value)
               done = element.element_hessian(gather<double>(x, e), e, block);
             if (!done)
@@ -308,12 +336,15 @@ namespace nlmech
       });
     }
 
-    /// out += the element vectors local(e, v), bit for bit what one thread computes.
+    /// out += the element vectors local(e, v) of this rank's elements, bit for bit what one
+    /// thread computes.
     template <typename Local>
     void add_element_vectors(Eigen::VectorXd &out, const Local &local) const
     {
+      const auto owned = owned_elements(element.n_elements());
       nlmech::add_element_vectors<N>(
-          element.n_elements(), block_size, [&](const std::size_t e) { return element.dofs(e); }, local, out);
+          owned.first, owned.second, block_size, [&](const std::size_t e) { return element.dofs(e); }, local,
+          out);
     }
 
     template <typename S>

@@ -1,3 +1,4 @@
+#include <nlmech/base/rank_sharing.h>
 #include <nlmech/base/threads.h>
 #include <nlmech/base/truncated_series.h>
 #include <nlmech/models/solid/inverse_hyperelastic.h>
@@ -91,9 +92,11 @@ namespace nlmech
 
   Eigen::VectorXd InverseHyperelasticSystem::internal_force(const Eigen::VectorXd &X) const
   {
-    Eigen::VectorXd r = Eigen::VectorXd::Zero(X.size());
+    // This rank's elements (all without rank sharing), summed over the sharing ranks.
+    Eigen::VectorXd r     = Eigen::VectorXd::Zero(X.size());
+    const auto      owned = owned_elements(tets.size());
     add_element_vectors<12>(
-        tets.size(), block_size, [&](const std::size_t e) { return dofs(e); },
+        owned.first, owned.second, block_size, [&](const std::size_t e) { return dofs(e); },
         [&](const std::size_t e, std::array<double, 12> &force) {
           const auto             d = dofs(e);
           std::array<double, 12> local;
@@ -102,6 +105,7 @@ namespace nlmech
           element_force(e, local, force);
         },
         r);
+    sum_over_sharing_ranks(r.data(), r.size());
     return r;
   }
 
@@ -176,16 +180,22 @@ namespace nlmech
 
   Eigen::SparseMatrix<double> InverseHyperelasticSystem::tangent(const Eigen::VectorXd &X) const
   {
-    Triplets triplets(144 * tets.size());
+    // Other ranks' elements give their pattern with zeros: the same matrix structure on every
+    // rank, whose values are then summed over the sharing ranks.
+    Triplets   triplets(144 * tets.size());
+    const auto owned = owned_elements(tets.size());
     for_each_block(tets.size(), block_size / 2, [&](const std::size_t begin, const std::size_t end) {
       for (std::size_t e = begin; e < end; ++e)
         {
-          const auto             d = dofs(e);
-          std::array<double, 12> local;
-          for (int i = 0; i < 12; ++i)
-            local[i] = X[d[i]];
-          Eigen::Matrix<double, 12, 12> K;
-          element_tangent(e, local, K);
+          const auto                    d = dofs(e);
+          Eigen::Matrix<double, 12, 12> K = Eigen::Matrix<double, 12, 12>::Zero();
+          if (e >= owned.first && e < owned.second)
+            {
+              std::array<double, 12> local;
+              for (int i = 0; i < 12; ++i)
+                local[i] = X[d[i]];
+              element_tangent(e, local, K);
+            }
           for (int i = 0; i < 12; ++i)
             for (int j = 0; j < 12; ++j)
               triplets[144 * e + 12 * i + j] = Eigen::Triplet<double>(int(d[i]), int(d[j]), K(i, j));
@@ -193,6 +203,7 @@ namespace nlmech
     });
     Eigen::SparseMatrix<double> K(X.size(), X.size());
     K.setFromTriplets(triplets.begin(), triplets.end());
+    sum_over_sharing_ranks(K.valuePtr(), K.nonZeros());
     return K;
   }
 
@@ -311,9 +322,10 @@ namespace nlmech
   {
     const bool recurrences = density.law == HyperelasticLaw::neo_hookean && use_recurrences;
     prepare_series(k);
-    Eigen::VectorXd out = Eigen::VectorXd::Zero(path[0].size());
+    Eigen::VectorXd out   = Eigen::VectorXd::Zero(path[0].size());
+    const auto      owned = owned_elements(tets.size());
     add_element_vectors<12>(
-        tets.size(), block_size, [&](const std::size_t e) { return dofs(e); },
+        owned.first, owned.second, block_size, [&](const std::size_t e) { return dofs(e); },
         [&](const std::size_t e, std::array<double, 12> &force) {
           if (recurrences)
             add_force_series_by_recurrences(path, k, e, force);
@@ -321,6 +333,7 @@ namespace nlmech
             add_force_series_by_truncated_series(path, k, e, force);
         },
         out);
+    sum_over_sharing_ranks(out.data(), out.size());
     return out;
   }
 

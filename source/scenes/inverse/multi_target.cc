@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 namespace nlmech
@@ -147,9 +148,11 @@ namespace nlmech
                                           const InverseHyperelasticSystem &system,
                                           const Eigen::VectorXd &load, const Eigen::VectorXd &rest_for_case_1,
                                           const HyperelasticBoundaryConditions &conditions,
-                                          const std::vector<unsigned int>      &support_vertices)
+                                          const std::vector<unsigned int>      &support_vertices,
+                                          Eigen::VectorXd                      *forward_of_case_1)
   {
-    TimerOutput::Scope             t(context.timer, "multi-target design");
+    TimerOutput::Scope t(context.timer, "multi-target design");
+    auto inverse_solves = std::make_unique<TimerOutput::Scope>(context.timer, "multi-target: inverse solves");
     const auto                    &load_cases = p.load_cases;
     const auto                    &anm        = p.anm;
     const auto                    &loads      = p.loads;
@@ -180,6 +183,8 @@ namespace nlmech
         series.push_back(solver.series_at(X, 1.0));
       }
     const Eigen::VectorXd combined = reduced_basis_rest_shape(series);
+    inverse_solves.reset();
+    TimerOutput::Scope forward_checks(context.timer, "multi-target: forward checks");
     // Second method: the mean of the individual rest shapes (the least squares' minimiser).
     Eigen::VectorXd mean = Eigen::VectorXd::Zero(combined.size());
     for (const auto &s : series)
@@ -190,8 +195,10 @@ namespace nlmech
     RawSimplexMesh<3> rest_mesh = target_mesh;
     for (std::size_t v = 0; v < rest_mesh.vertices.size(); ++v)
       rest_mesh.vertices[v] = Point<3>(combined[3 * v], combined[3 * v + 1], combined[3 * v + 2]);
-    HyperelasticProblem forward = make_hyperelastic_problem(rest_mesh, material, conditions, {});
-    std::ostringstream  csv;
+    HyperelasticProblem forward     = make_hyperelastic_problem(rest_mesh, material, conditions, {});
+    AnmSettings         forward_anm = anm; // as tight as the scene's own round trip
+    forward_anm.residual_tolerance  = std::min(anm.residual_tolerance, 1e-10);
+    std::ostringstream csv;
     csv << "load_case,target_distance_to_main_target_m,individual_rest_distance_to_combined_m,"
            "forward_distance_to_target_m,forward_completed\n";
     double worst = 0;
@@ -200,9 +207,11 @@ namespace nlmech
         forward.load                   = case_loads[c];
         const Eigen::VectorXd x_t      = target_positions(targets[c]);
         Eigen::VectorXd       y        = forward.rest_positions;
-        const AnmResult       r        = AnmSolver(forward.internal, forward.load, anm).solve(y);
+        const AnmResult       r        = AnmSolver(forward.internal, forward.load, forward_anm).solve(y);
         const double          distance = (y - x_t).lpNorm<Eigen::Infinity>();
         worst                          = std::max(worst, distance);
+        if (c == 0 && forward_of_case_1 && r.completed)
+          *forward_of_case_1 = y;
         csv << c + 1 << "," << json_number((x_t - target_positions(target_mesh)).lpNorm<Eigen::Infinity>())
             << "," << json_number((series[c].x.front() - combined).lpNorm<Eigen::Infinity>()) << ","
             << json_number(distance) << "," << r.completed << "\n";

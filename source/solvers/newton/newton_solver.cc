@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 namespace nlmech
@@ -218,12 +219,17 @@ namespace nlmech
     system.initial_norm     = g0;
     regularization->start();
 
+    double previous_norm = std::numeric_limits<double>::infinity();
     for (result.iterations = 0;; ++result.iterations)
       {
         result.gradient_norm = g.norm();
         result.energy        = energy;
         if (result.gradient_norm <= std::max(settings.absolute_tolerance, settings.relative_tolerance * g0))
           return finish(result);
+        if (result.gradient_norm <= settings.stagnation_tolerance &&
+            result.gradient_norm > 0.5 * previous_norm)
+          return finish(result);
+        previous_norm = result.gradient_norm;
         AssertThrow(result.iterations < settings.max_iterations,
                     dealii::ExcMessage("Newton did not converge in " +
                                        std::to_string(settings.max_iterations) +

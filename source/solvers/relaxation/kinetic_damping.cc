@@ -92,7 +92,9 @@ namespace nlmech
         NewtonSettings  newton;
         newton.relative_tolerance = 0;
         newton.absolute_tolerance = 0.1 * settings.relative_tolerance * g_norm;
-        const NewtonResult r      = minimize_with_newton(step, x_new, newton);
+        // Large meshes: the gradient's round-off floor may lie above a tenth of the tolerance.
+        newton.stagnation_tolerance = settings.relative_tolerance * g_norm;
+        const NewtonResult r        = minimize_with_newton(step, x_new, newton);
         result.newton_iterations += r.iterations;
         result.factorizations += r.factorizations;
         v                    = (x_new - x) / dt;

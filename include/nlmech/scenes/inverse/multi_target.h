@@ -61,10 +61,14 @@ namespace nlmech
                                      const std::string               &name);
 
   /// One rest shape for the main target and the further load cases; multi_target.csv and figures.
+  /// The forward solution of the main case from that rest shape goes to `forward_of_case_1` (the
+  /// scene's round trip, not solved twice). Timed as "multi-target: inverse solves" (the further
+  /// targets' ANM, every series at its solution, the reduced basis) and "...: forward checks".
   Eigen::VectorXd multi_target_rest_shape(RunContext &context, const MultiTargetProblem &p,
                                           const RawSimplexMesh<3>         &target_mesh,
                                           const InverseHyperelasticSystem &system,
                                           const Eigen::VectorXd &load, const Eigen::VectorXd &rest_for_case_1,
                                           const HyperelasticBoundaryConditions &conditions,
-                                          const std::vector<unsigned int>      &support_vertices);
+                                          const std::vector<unsigned int>      &support_vertices,
+                                          Eigen::VectorXd                      *forward_of_case_1 = nullptr);
 } // namespace nlmech

@@ -36,6 +36,10 @@ namespace nlmech
     /// off). Barrier problems need it: their gradient stalls at a round-off level set by the barrier's
     /// curvature, far above any useful absolute tolerance.
     double step_tolerance = 0;
+    /// Also converged when |g_free| is at most this and fell by less than half in the last
+    /// iteration (0: off): the round-off floor of a large model's gradient, which no further
+    /// iteration lowers, reached below an accuracy the caller can accept.
+    double stagnation_tolerance = 0;
     /// Called with every accepted state (for checks and monitoring).
     std::function<void(const Eigen::VectorXd &)> on_accepted;
     /// An additional convergence test after every accepted step, given the state and the free
