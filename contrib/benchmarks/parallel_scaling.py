@@ -40,6 +40,8 @@ subsection Solver
   set Methods = anm
 end
 """, ("n_vertices", "anm.steps", "anm.factorizations")),
+    # Inverse design of the plant-like shape at the ANM paper's size (14.4k vertices), as shipped.
+    "inverse-plant-15k": shipped("inverse-plant-15k.prm", "", ("n_vertices", "anm.steps", "anm.factorizations")),
     # The harmonic-balance frequency-response curve of the layered solid, as shipped.
     "hbm-layered-solid": shipped("layered-solid.prm", "", ("n_unknowns", "points", "unstable_points")),
     # The strain-limited swinging sheet at 60 x 60 quads, one scheme, first second.

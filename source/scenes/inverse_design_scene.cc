@@ -220,13 +220,11 @@ namespace nlmech
             HyperelasticProblem forward = make_hyperelastic_problem(rest_mesh, material, conditions, {});
             forward.load                = on_target.load;
             x_forward                   = forward.rest_positions;
-            AnmSettings settings        = anm;
-            settings.residual_tolerance = std::min(anm.residual_tolerance, 1e-10);
             AnmResult check;
             if (forward_of_case_1.size() > 0)
               x_forward = forward_of_case_1, check.completed = true;
             else
-              check = AnmSolver(forward.internal, forward.load, settings).solve(x_forward);
+              check = AnmSolver(forward.internal, forward.load, anm).solve(x_forward); // same tolerance
             // Stability of the equilibrium the fabricated part reaches (the target itself with one
             // target; with several, the main case's forward solution from the compromise): a
             // positive definite Hessian there. An unstable one cannot be realised by the part.
@@ -239,6 +237,8 @@ namespace nlmech
                                  "fabricated part would not stay in it (a stiffer material or more supports "
                                  "help)");
             context.summary.add_bool("forward_check_completed", check.completed);
+            context.summary.add_number("forward_check_anm_steps", check.steps.size());
+            context.summary.add_number("forward_check_factorizations", check.factorizations);
             const double error = (x_forward - x).lpNorm<Eigen::Infinity>() / diagonal;
             context.summary.add_figure("round_trip_error_relative_to_diagonal", error, "1");
             context.summary.add_figure("bounding_box_diagonal", diagonal, "m");

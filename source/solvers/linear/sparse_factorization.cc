@@ -16,6 +16,8 @@ namespace nlmech
     // No iterative refinement inside UMFPACK: every solve is checked against its residual here, and
     // the Newton-type callers correct the rest (refinement tripled the cost of a solve).
     lu.umfpackControl()(UMFPACK_IRSTEP) = 0;
+    default_ordering                    = lu.umfpackControl()(UMFPACK_ORDERING);
+    default_strategy                    = lu.umfpackControl()(UMFPACK_STRATEGY);
   }
 
   void SparseFactorization::factorize(const Eigen::SparseMatrix<double> &A, const bool symmetric)
@@ -40,6 +42,13 @@ namespace nlmech
         lu_matrix.makeCompressed();
         if (lu_matrix.nonZeros() != lu_pattern)
           {
+            // Large matrices (the inverse-design tangent of 20k+ vertices, whose pattern is that of
+            // a mesh): METIS on A + A' and the symmetric strategy, 26 % less factorisation time
+            // than UMFPACK's default at 71k unknowns (10.7 s vs 14.5 s for three); slower on small
+            // ones (HBM: 8.3 s vs 7.3 s for a short curve), which keep the default.
+            const bool large                      = lu_matrix.rows() > 20000;
+            lu.umfpackControl()(UMFPACK_ORDERING) = large ? UMFPACK_ORDERING_METIS : default_ordering;
+            lu.umfpackControl()(UMFPACK_STRATEGY) = large ? UMFPACK_STRATEGY_SYMMETRIC : default_strategy;
             lu.analyzePattern(lu_matrix);
             lu_pattern = lu_matrix.nonZeros();
           }

@@ -30,6 +30,7 @@ namespace nlmech
     Eigen::SparseMatrix<double> lu_matrix; // UMFPACK's solve reads the matrix: it must outlive it
     Eigen::SparseMatrix<double> matrix;    // for the residual check of every solve
     long                        cholesky_pattern = -1, lu_pattern = -1;
+    double                      default_ordering = 0, default_strategy = 0; // UMFPACK's own
     bool                        use_cholesky = true;
   };
 } // namespace nlmech
