@@ -185,12 +185,13 @@ namespace nlmech
     for (Eigen::Index i = 0; i < n; ++i)
       q[evaluator.free_dofs[i]] = evaluator.x[i];
     const Eigen::VectorXd R = free.restrict(system.internal_force(q)) - evaluator.g;
-    result.iterations       = unsigned(summary.num_successful_steps + summary.num_unsuccessful_steps);
-    result.factorizations   = unsigned(summary.num_linear_solves);
-    result.residual         = R.norm() / g_norm;
-    result.converged = std::isfinite(result.residual) && result.residual <= settings.relative_tolerance;
-    result.capped    = !result.converged && (summary.termination_type == ceres::NO_CONVERGENCE);
-    result.seconds   = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // Ceres' iteration 0 is the starting point (it counts it as a successful step).
+    result.iterations     = summary.iterations.empty() ? 0u : unsigned(summary.iterations.size() - 1);
+    result.factorizations = unsigned(summary.num_linear_solves);
+    result.residual       = R.norm() / g_norm;
+    result.converged      = std::isfinite(result.residual) && result.residual <= settings.relative_tolerance;
+    result.capped         = !result.converged && (summary.termination_type == ceres::NO_CONVERGENCE);
+    result.seconds        = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   }
 } // namespace nlmech
