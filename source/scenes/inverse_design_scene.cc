@@ -99,6 +99,10 @@ namespace nlmech
         methods = Utilities::split_string_list(prm.get("Methods"), ',');
         anm.parse_parameters(prm);
         baselines.parse_parameters(prm);
+        AssertThrow(std::find(methods.begin(), methods.end(), "levenberg-marquardt") == methods.end() ||
+                        !baselines.lm_initial_guesses.empty(),
+                    ExcMessage("Levenberg-Marquardt is among the methods but \"Levenberg-Marquardt initial "
+                               "guesses\" is empty: give target and/or reversed-load."));
         round_trip_tolerance    = prm.get_double("Round trip tolerance");
         const bool multi_target = prm.get_bool("Multi-target design");
         prm.leave_subsection();

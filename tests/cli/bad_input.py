@@ -136,6 +136,10 @@ def cases(source):
                             "is not finite"),
         "dim-far-strain-out-of-range": (dim("subsection Sampling\n  set Far strain = 1.5\nend\n"),
                                         "Far strain"),
+        "inverse-lm-no-initial-guess": ("set Scene type = inverse-design\nsubsection Solver\n"
+                                        "  set Methods = anm, levenberg-marquardt\n"
+                                        "  set Levenberg-Marquardt initial guesses =\nend\n",
+                                        "initial guesses\" is empty"),
         "multi-target-topology": (multi_target(f"  set Target mesh = {os.path.join(data, 'inverted_tet.msh')}\n"),
                                   "not the main target's"),
         "multi-target-moved-support": (multi_target("  set Target displacement = 0.001; 0; 0\n"),
