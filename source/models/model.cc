@@ -131,8 +131,8 @@ namespace nlmech
 
   Eigen::SparseMatrix<double> Model::hessian(const Eigen::VectorXd &x, const bool projected) const
   {
-    std::lock_guard<std::mutex> hold(hessian_assembly->lock());
-    Triplets                   &triplets = hessian_assembly->buffer();
+    const TripletAssemblyPool::Handle hessian_assembly = hessian_assemblies->acquire();
+    Triplets                         &triplets         = hessian_assembly->buffer();
     triplets.clear();
     // The partial terms' triplets have the same pattern on every rank: their matrix is summed
     // over the ranks value by value; the whole terms' are added after.

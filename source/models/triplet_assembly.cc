@@ -34,4 +34,17 @@ namespace nlmech
       values[position[i]] += triplets[i].value();
     return pattern;
   }
+
+  TripletAssemblyPool::Handle TripletAssemblyPool::acquire()
+  {
+    std::lock_guard<std::mutex> hold(guard);
+    for (const auto &a : assemblies)
+      {
+        std::unique_lock<std::mutex> mine(a->lock(), std::try_to_lock);
+        if (mine.owns_lock())
+          return Handle(*a, std::move(mine));
+      }
+    assemblies.push_back(std::make_unique<TripletAssembly>());
+    return Handle(*assemblies.back(), std::unique_lock<std::mutex>(assemblies.back()->lock()));
+  }
 } // namespace nlmech

@@ -54,8 +54,8 @@ namespace nlmech
     std::vector<std::shared_ptr<const EnergyTerm>> energy_terms;
     Eigen::VectorXd                                mass;
     std::map<std::size_t, double>                  fixed_values;
-    /// Hessian assembly with its pattern kept (shared by copies; thread-safe).
-    std::shared_ptr<TripletAssembly> hessian_assembly = std::make_shared<TripletAssembly>();
+    /// Hessian assemblies with their patterns kept, one per concurrent caller (shared by copies).
+    std::shared_ptr<TripletAssemblyPool> hessian_assemblies = std::make_shared<TripletAssemblyPool>();
   };
 
   /// The unknowns that are not fixed: restriction of vectors and matrices to them and back.

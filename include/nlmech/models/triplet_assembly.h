@@ -9,6 +9,7 @@
 
 #include <Eigen/Sparse>
 
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -30,5 +31,34 @@ namespace nlmech
     Triplets                    scratch;
     std::vector<int>            rows, cols, position; // the last sequence and each one's slot
     Eigen::SparseMatrix<double> pattern;
+  };
+
+  /// Assemblies for tangents evaluated at the same time on several threads (harmonic balance
+  /// evaluates one per time sample): each concurrent caller gets an assembly of its own, with the
+  /// pattern that assembly kept from its last use.
+  class TripletAssemblyPool
+  {
+  public:
+    /// An assembly nobody else holds, locked while the handle lives; a new one when all are held.
+    class Handle
+    {
+    public:
+      Handle(TripletAssembly &assembly, std::unique_lock<std::mutex> hold)
+          : assembly(&assembly)
+          , hold(std::move(hold))
+      {
+      }
+      TripletAssembly *operator->() const { return assembly; }
+
+    private:
+      TripletAssembly             *assembly;
+      std::unique_lock<std::mutex> hold;
+    };
+
+    Handle acquire();
+
+  private:
+    std::mutex                                    guard;
+    std::vector<std::unique_ptr<TripletAssembly>> assemblies;
   };
 } // namespace nlmech

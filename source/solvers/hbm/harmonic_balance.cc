@@ -1,5 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/base/rank_sharing.h>
+#include <nlmech/base/threads.h>
 #include <nlmech/solvers/hbm/harmonic_balance.h>
 
 #include <fftw3.h>
@@ -440,9 +442,19 @@ namespace nlmech
     Eigen::MatrixXd       f(n, N);
     if (df_dx)
       df_dx->assign(N, {}), df_dv->assign(N, {});
-    for (unsigned int j = 0; j < N; ++j)
-      f.col(j) = force(x.col(j), full_velocity(v.col(j), 2 * pi * j / N, omega), 2 * pi * j / N,
-                       df_dx ? &(*df_dx)[j] : nullptr, df_dv ? &(*df_dv)[j] : nullptr);
+    auto samples = [&](const std::size_t begin, const std::size_t end) {
+      for (std::size_t j = begin; j < end; ++j)
+        f.col(Eigen::Index(j)) =
+            force(x.col(Eigen::Index(j)), full_velocity(v.col(Eigen::Index(j)), 2 * pi * j / N, omega),
+                  2 * pi * j / N, df_dx ? &(*df_dx)[j] : nullptr, df_dv ? &(*df_dv)[j] : nullptr);
+    };
+    // The samples are independent: one task each (the element loops inside still split further).
+    // Ranks that share the element loops sum every evaluation collectively, in the same order on
+    // every rank, so there the samples go one after the other.
+    if (element_sharing_ranks() > 1)
+      samples(0, N);
+    else
+      for_each_block(N, 1, samples);
     return f;
   }
 
