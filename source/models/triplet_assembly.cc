@@ -35,16 +35,31 @@ namespace nlmech
     return pattern;
   }
 
+  TripletAssemblyPool::Handle::Handle(TripletAssemblyPool &pool, const std::size_t slot)
+      : pool(pool)
+      , slot(slot)
+      , assembly(pool.assemblies[slot].get())
+  {
+  }
+
+  TripletAssemblyPool::Handle::~Handle()
+  {
+    std::lock_guard<std::mutex> hold(pool.guard);
+    pool.held[slot] = false;
+  }
+
   TripletAssemblyPool::Handle TripletAssemblyPool::acquire()
   {
     std::lock_guard<std::mutex> hold(guard);
-    for (const auto &a : assemblies)
+    std::size_t                 slot = 0;
+    while (slot < held.size() && held[slot])
+      ++slot;
+    if (slot == held.size())
       {
-        std::unique_lock<std::mutex> mine(a->lock(), std::try_to_lock);
-        if (mine.owns_lock())
-          return Handle(*a, std::move(mine));
+        assemblies.push_back(std::make_unique<TripletAssembly>());
+        held.push_back(false);
       }
-    assemblies.push_back(std::make_unique<TripletAssembly>());
-    return Handle(*assemblies.back(), std::unique_lock<std::mutex>(assemblies.back()->lock()));
+    held[slot] = true;
+    return Handle(*this, slot);
   }
 } // namespace nlmech

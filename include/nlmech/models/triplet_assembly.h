@@ -22,12 +22,11 @@ namespace nlmech
     Eigen::SparseMatrix<double> assemble(std::size_t n, const Triplets &triplets);
 
     /// A buffer to collect triplets in, kept between calls (no re-allocation of millions of
-    /// entries per tangent); lock() while using it.
-    Triplets   &buffer() { return scratch; }
-    std::mutex &lock() { return guard; }
+    /// entries per tangent); for one user at a time (TripletAssemblyPool hands them out).
+    Triplets &buffer() { return scratch; }
 
   private:
-    std::mutex                  guard, assembly_guard;
+    std::mutex                  assembly_guard;
     Triplets                    scratch;
     std::vector<int>            rows, cols, position; // the last sequence and each one's slot
     Eigen::SparseMatrix<double> pattern;
@@ -35,24 +34,25 @@ namespace nlmech
 
   /// Assemblies for tangents evaluated at the same time on several threads (harmonic balance
   /// evaluates one per time sample): each concurrent caller gets an assembly of its own, with the
-  /// pattern that assembly kept from its last use.
+  /// pattern that assembly kept from its last use. A flag per assembly, not a lock, marks it held,
+  /// so a task that re-enters on a thread already holding one simply gets another.
   class TripletAssemblyPool
   {
   public:
-    /// An assembly nobody else holds, locked while the handle lives; a new one when all are held.
+    /// An assembly nobody else holds, until the handle dies; a new one when all are held.
     class Handle
     {
     public:
-      Handle(TripletAssembly &assembly, std::unique_lock<std::mutex> hold)
-          : assembly(&assembly)
-          , hold(std::move(hold))
-      {
-      }
+      Handle(TripletAssemblyPool &pool, std::size_t slot);
+      ~Handle();
+      Handle(const Handle &)                     = delete;
+      Handle          &operator=(const Handle &) = delete;
       TripletAssembly *operator->() const { return assembly; }
 
     private:
-      TripletAssembly             *assembly;
-      std::unique_lock<std::mutex> hold;
+      TripletAssemblyPool &pool;
+      std::size_t          slot;
+      TripletAssembly     *assembly;
     };
 
     Handle acquire();
@@ -60,5 +60,6 @@ namespace nlmech
   private:
     std::mutex                                    guard;
     std::vector<std::unique_ptr<TripletAssembly>> assemblies;
+    std::vector<bool>                             held;
   };
 } // namespace nlmech
