@@ -194,9 +194,11 @@ namespace nlmech::dim
 #include <deal.II/base/mpi.h>
 
 #include <nlmech/base/atomic_output.h>
+#include <nlmech/base/for_each_job.h>
 
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 
 namespace nlmech::dim
 {
@@ -372,69 +374,84 @@ namespace nlmech::dim
         }
       // Every rank must see the same open jobs before anybody writes a new sample.
       MPI_Barrier(comm);
-      std::string error;
-      unsigned    done = 0, mine = 0;
+      // This rank's jobs run on its task threads, each thread taking the next open job; a failure
+      // stops the ones not yet started, and the first failed job (in job order) is reported.
+      std::vector<std::size_t> mine;
       for (std::size_t k = rank; k < open.size(); k += size)
-        ++mine;
-      for (std::size_t k = rank; k < open.size() && error.empty(); k += size)
+        mine.push_back(open[k]);
+      std::mutex  guard;
+      std::string error;
+      std::size_t error_job = jobs.size();
+      unsigned    done = 0, started = new_samples;
+      for_each_job(mine.size(), [&](const std::size_t i) {
         {
-          if (plan.stop_after > 0 && new_samples >= plan.stop_after)
-            break;
-          Sample &s = jobs[open[k]];
-          try
-            {
-              const bool uniaxial = s.kind == SampleKind::positive || s.kind == SampleKind::negative;
-              // One solve from rest; if it fails, once more in two stages (half the way to the target
-              // first, then on from there), which avoids most slides that stall.
-              auto drive = [&](auto &t) {
-                try
-                  {
-                    return uniaxial ? t.solve(s.target_p, w, 0.0, 0.0)
-                                    : t.solve(s.target_p, hold, s.target_o, w);
-                  }
-                catch (const std::exception &)
-                  {
-                    if (uniaxial)
-                      t.solve(0.5 * s.target_p, w, 0.0, 0.0);
-                    else
-                      t.solve(s.target_p, hold, 0.5 * s.target_o, w);
-                    TestOutcome o = uniaxial ? t.solve(s.target_p, w, 0.0, 0.0, true)
-                                             : t.solve(s.target_p, hold, s.target_o, w, true);
-                    return o;
-                  }
-              };
-              if (test == "in-plane")
-                {
-                  InPlaneTest t(pattern, s.theta, settings);
-                  s.outcome       = drive(t);
-                  s.outcome.state = t.state();
-                }
-              else
-                {
-                  BendingTest t(pattern, plan.patch_elements, s.theta, settings);
-                  s.outcome       = drive(t);
-                  s.outcome.state = t.state();
-                }
-              AssertThrow(std::isfinite(s.outcome.principal) && std::isfinite(s.outcome.orthogonal),
-                          dealii::ExcMessage("Sampling: a test returned a non-finite result."));
-              write_file_atomically(checkpoint_directory + "/" + s.key() + ".sample",
-                                    record_of(s, plan.fingerprint));
-              ++new_samples, ++counts.computed;
-              if (progress)
-                progress(++done, mine, s);
-            }
-          catch (const std::exception &e)
-            {
-              error = "Sample " + s.key() + ": " + message_of(e);
-            }
+          const std::lock_guard<std::mutex> lock(guard);
+          // After a failure only the jobs before it in job order start: every rank then has run
+          // all its jobs before its first failure, whatever the thread count.
+          if (mine[i] > error_job || (plan.stop_after > 0 && started >= plan.stop_after))
+            return;
+          ++started;
         }
+        Sample &s = jobs[mine[i]];
+        try
+          {
+            const bool uniaxial = s.kind == SampleKind::positive || s.kind == SampleKind::negative;
+            // One solve from rest; if it fails, once more in two stages (half the way to the target
+            // first, then on from there), which avoids most slides that stall.
+            auto drive = [&](auto &t) {
+              try
+                {
+                  return uniaxial ? t.solve(s.target_p, w, 0.0, 0.0)
+                                  : t.solve(s.target_p, hold, s.target_o, w);
+                }
+              catch (const std::exception &)
+                {
+                  if (uniaxial)
+                    t.solve(0.5 * s.target_p, w, 0.0, 0.0);
+                  else
+                    t.solve(s.target_p, hold, 0.5 * s.target_o, w);
+                  TestOutcome o = uniaxial ? t.solve(s.target_p, w, 0.0, 0.0, true)
+                                           : t.solve(s.target_p, hold, s.target_o, w, true);
+                  return o;
+                }
+            };
+            if (test == "in-plane")
+              {
+                InPlaneTest t(pattern, s.theta, settings);
+                s.outcome       = drive(t);
+                s.outcome.state = t.state();
+              }
+            else
+              {
+                BendingTest t(pattern, plan.patch_elements, s.theta, settings);
+                s.outcome       = drive(t);
+                s.outcome.state = t.state();
+              }
+            AssertThrow(std::isfinite(s.outcome.principal) && std::isfinite(s.outcome.orthogonal),
+                        dealii::ExcMessage("Sampling: a test returned a non-finite result."));
+            write_file_atomically(checkpoint_directory + "/" + s.key() + ".sample",
+                                  record_of(s, plan.fingerprint));
+            const std::lock_guard<std::mutex> lock(guard);
+            ++new_samples, ++counts.computed;
+            if (progress)
+              progress(++done, unsigned(mine.size()), s);
+          }
+        catch (const std::exception &e)
+          {
+            const std::lock_guard<std::mutex> lock(guard);
+            if (mine[i] < error_job)
+              error = "Sample " + s.key() + ": " + message_of(e), error_job = mine[i];
+          }
+      });
       // Agree on errors and on an early stop before anybody reads the checkpoint.
-      const auto errors = dealii::Utilities::MPI::all_gather(comm, error);
-      for (const auto &e : errors)
+      // The failure reported is the first in job order over all ranks.
+      const auto  errors    = dealii::Utilities::MPI::all_gather(comm, std::make_pair(error_job, error));
+      std::size_t first_job = jobs.size();
+      for (const auto &[job, e] : errors)
         {
           AssertThrow(e.empty() || statistics, dealii::ExcMessage(e));
-          if (!e.empty() && counts.failure.empty())
-            counts.failure = e;
+          if (!e.empty() && job < first_job)
+            counts.failure = e, first_job = job;
         }
       const unsigned stopped =
           dealii::Utilities::MPI::max(unsigned(plan.stop_after > 0 && new_samples >= plan.stop_after), comm);

@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/base/threads.h>
 #include <nlmech/dim/rigid_assembly.h>
 
 #include <Eigen/Eigenvalues>
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <limits>
 #include <set>
+#include <vector>
 
 namespace nlmech::dim
 {
@@ -235,53 +237,63 @@ namespace nlmech::dim
 
   std::vector<ContactPair> RigidAssembly::contact_pairs(const Eigen::VectorXd &q, const double reach) const
   {
+    // Each pair of bodies (an image) on its own, on deal.II's threads, then joined in pair order.
+    const auto                            candidates = body_pairs(q, reach);
+    std::vector<std::vector<ContactPair>> found(candidates.size());
+    const auto                            within = [reach]() { return reach; };
+    const auto                            search = [&](const std::size_t c) {
+      const auto &[a, b, image]                 = candidates[c];
+      std::vector<ContactPair>          &result = found[c];
+      const auto                        &sa = shape(a), &sb = shape(b);
+      const auto                        &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
+      const auto                        &ta = trees[shape_of[a]], &tb = trees[shape_of[b]];
+      const SphereTree::Placement        la = placement_of(q, a, {{0, 0}}), lb = placement_of(q, b, image);
+      const std::vector<Eigen::Vector3d> xa = world_points(q, a), xb = world_points(q, b, image);
+      auto add = [&](const ClosestType &c, const std::array<Eigen::Vector3d, 4> &points,
+                     const std::array<unsigned char, 4> &owner, const double radius_sum) {
+        const double gap = std::sqrt(c.squared_distance) - radius_sum;
+        if (!(gap < reach))
+          return;
+        ContactPair pair;
+        pair.body_a = a, pair.body_b = b, pair.image = image, pair.type = c.type;
+        pair.radius_sum = radius_sum, pair.gap = gap;
+        for (unsigned k = 0; k < 4; ++k)
+          pair.body_points[k] = points[c.points[k]], pair.owner[k] = owner[c.points[k]];
+        result.push_back(pair);
+      };
+      // Edge pairs whose swept spheres come within reach (the trees prune whole subtrees).
+      SphereTree::for_close_pairs(ta.edges, la, tb.edges, lb, within, [&](unsigned ea, unsigned eb) {
+        const auto &[i0, i1] = pa.edges[ea];
+        const auto &[j0, j1] = pb.edges[eb];
+        add(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]),
+                                       {{sa.points[i0], sa.points[i1], sb.points[j0], sb.points[j1]}}, {{0, 0, 1, 1}},
+                                       pa.edge_radius[ea] + pb.edge_radius[eb]);
+      });
+      // Points of one element against the faces of the other (both ways).
+      for (int side = 0; side < 2; ++side)
+        {
+          const auto         &pv = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
+          const auto         &xv = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
+          const auto         &sv = side == 0 ? sa : sb, &sf = side == 0 ? sb : sa;
+          const auto         &tv = side == 0 ? ta : tb, &tf = side == 0 ? tb : ta;
+          const auto         &lv = side == 0 ? la : lb, &lf = side == 0 ? lb : la;
+          const unsigned char ov = side == 0 ? 0 : 1, of = side == 0 ? 1 : 0;
+          SphereTree::for_close_pairs(tv.vertices, lv, tf.faces, lf, within, [&](unsigned k, unsigned f) {
+            const auto &[v, rv]      = pv.vertices[k];
+            const auto &[t0, t1, t2] = pf.faces[f];
+            add(point_triangle_type(xv[v], xf[t0], xf[t1], xf[t2]),
+                                           {{sv.points[v], sf.points[t0], sf.points[t1], sf.points[t2]}}, {{ov, of, of, of}},
+                                           rv + pf.face_radius[f]);
+          });
+        }
+    };
+    for_each_block(candidates.size(), 1, [&](const std::size_t begin, const std::size_t end) {
+      for (std::size_t c = begin; c < end; ++c)
+        search(c);
+    });
     std::vector<ContactPair> result;
-    const auto               within = [reach]() { return reach; };
-    for (const auto &[a, b, image] : body_pairs(q, reach))
-      {
-        const auto                        &sa = shape(a), &sb = shape(b);
-        const auto                        &pa = primitives[shape_of[a]], &pb = primitives[shape_of[b]];
-        const auto                        &ta = trees[shape_of[a]], &tb = trees[shape_of[b]];
-        const SphereTree::Placement        la = placement_of(q, a, {{0, 0}}), lb = placement_of(q, b, image);
-        const std::vector<Eigen::Vector3d> xa = world_points(q, a), xb = world_points(q, b, image);
-        auto add = [&](const ClosestType &c, const std::array<Eigen::Vector3d, 4> &points,
-                       const std::array<unsigned char, 4> &owner, const double radius_sum) {
-          const double gap = std::sqrt(c.squared_distance) - radius_sum;
-          if (!(gap < reach))
-            return;
-          ContactPair pair;
-          pair.body_a = a, pair.body_b = b, pair.image = image, pair.type = c.type;
-          pair.radius_sum = radius_sum, pair.gap = gap;
-          for (unsigned k = 0; k < 4; ++k)
-            pair.body_points[k] = points[c.points[k]], pair.owner[k] = owner[c.points[k]];
-          result.push_back(pair);
-        };
-        // Edge pairs whose swept spheres come within reach (the trees prune whole subtrees).
-        SphereTree::for_close_pairs(ta.edges, la, tb.edges, lb, within, [&](unsigned ea, unsigned eb) {
-          const auto &[i0, i1] = pa.edges[ea];
-          const auto &[j0, j1] = pb.edges[eb];
-          add(segment_segment_type(xa[i0], xa[i1], xb[j0], xb[j1]),
-              {{sa.points[i0], sa.points[i1], sb.points[j0], sb.points[j1]}}, {{0, 0, 1, 1}},
-              pa.edge_radius[ea] + pb.edge_radius[eb]);
-        });
-        // Points of one element against the faces of the other (both ways).
-        for (int side = 0; side < 2; ++side)
-          {
-            const auto         &pv = side == 0 ? pa : pb, &pf = side == 0 ? pb : pa;
-            const auto         &xv = side == 0 ? xa : xb, &xf = side == 0 ? xb : xa;
-            const auto         &sv = side == 0 ? sa : sb, &sf = side == 0 ? sb : sa;
-            const auto         &tv = side == 0 ? ta : tb, &tf = side == 0 ? tb : ta;
-            const auto         &lv = side == 0 ? la : lb, &lf = side == 0 ? lb : la;
-            const unsigned char ov = side == 0 ? 0 : 1, of = side == 0 ? 1 : 0;
-            SphereTree::for_close_pairs(tv.vertices, lv, tf.faces, lf, within, [&](unsigned k, unsigned f) {
-              const auto &[v, rv]      = pv.vertices[k];
-              const auto &[t0, t1, t2] = pf.faces[f];
-              add(point_triangle_type(xv[v], xf[t0], xf[t1], xf[t2]),
-                  {{sv.points[v], sf.points[t0], sf.points[t1], sf.points[t2]}}, {{ov, of, of, of}},
-                  rv + pf.face_radius[f]);
-            });
-          }
-      }
+    for (auto &f : found)
+      result.insert(result.end(), f.begin(), f.end());
     return result;
   }
 
@@ -562,56 +574,83 @@ namespace nlmech::dim
     return barrier(d, contact.dhat, contact.kappa);
   }
 
+  // The pair loops run in fixed blocks on deal.II's threads, into one buffer entry per pair that is
+  // then added in pair order: the same sums for every thread count.
+  namespace
+  {
+    constexpr std::size_t pairs_per_block = 16;
+  }
+
   double ContactBarrier::value(const Eigen::VectorXd &q) const
   {
+    const auto          pairs = pairs_at(q);
+    std::vector<double> values(pairs->size());
+    for_each_block(pairs->size(), pairs_per_block, [&](const std::size_t begin, const std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        {
+          const auto             dofs = pair_dofs((*pairs)[i]);
+          std::array<double, 15> v{};
+          for (unsigned k = 0; k < 15; ++k)
+            v[k] = dofs[k] >= 0 ? q[dofs[k]] : 0.0;
+          values[i] = pair_energy((*pairs)[i], v);
+        }
+    });
     double total = 0;
-    for (const ContactPair &p : *pairs_at(q))
-      {
-        const auto             dofs = pair_dofs(p);
-        std::array<double, 15> v{};
-        for (unsigned k = 0; k < 15; ++k)
-          v[k] = dofs[k] >= 0 ? q[dofs[k]] : 0.0;
-        total += pair_energy(p, v);
-      }
+    for (const double v : values)
+      total += v;
     return total;
   }
 
   void ContactBarrier::add_gradient(const Eigen::VectorXd &q, Eigen::VectorXd &g) const
   {
-    for (const ContactPair &p : *pairs_at(q))
-      {
-        const auto               dofs = pair_dofs(p);
-        std::array<Gradient, 15> v;
-        for (unsigned k = 0; k < 15; ++k)
-          v[k] = Gradient(15, k, dofs[k] >= 0 ? q[dofs[k]] : 0.0);
-        const Gradient e = pair_energy(p, v);
-        for (unsigned k = 0; k < 15; ++k)
-          if (dofs[k] >= 0)
-            g[dofs[k]] += e.dx(k);
-      }
+    const auto                          pairs = pairs_at(q);
+    std::vector<std::array<double, 15>> local(pairs->size());
+    std::vector<std::array<long, 15>>   dofs(pairs->size());
+    for_each_block(pairs->size(), pairs_per_block, [&](const std::size_t begin, const std::size_t end) {
+      for (std::size_t p = begin; p < end; ++p)
+        {
+          dofs[p] = pair_dofs((*pairs)[p]);
+          std::array<Gradient, 15> v;
+          for (unsigned k = 0; k < 15; ++k)
+            v[k] = Gradient(15, k, dofs[p][k] >= 0 ? q[dofs[p][k]] : 0.0);
+          const Gradient e = pair_energy((*pairs)[p], v);
+          for (unsigned k = 0; k < 15; ++k)
+            local[p][k] = e.dx(k);
+        }
+    });
+    for (std::size_t p = 0; p < pairs->size(); ++p)
+      for (unsigned k = 0; k < 15; ++k)
+        if (dofs[p][k] >= 0)
+          g[dofs[p][k]] += local[p][k];
   }
 
   void ContactBarrier::add_hessian(const Eigen::VectorXd &q, Triplets &h) const
   {
-    for (const ContactPair &p : *pairs_at(q))
-      {
-        const auto              dofs = pair_dofs(p);
-        std::array<Hessian, 15> v;
-        for (unsigned k = 0; k < 15; ++k)
-          v[k] = Hessian(15, k, Gradient(15, k, dofs[k] >= 0 ? q[dofs[k]] : 0.0));
-        const Hessian                 e = pair_energy(p, v);
-        Eigen::Matrix<double, 15, 15> H;
-        for (unsigned i = 0; i < 15; ++i)
-          for (unsigned j = 0; j < 15; ++j)
-            H(i, j) = e.dx(i).dx(j);
-        H = 0.5 * (H + H.transpose()).eval();
-        if (contact.project_hessians)
-          project_to_positive_semidefinite(H); // IPC: negative eigenvalues clamped to zero
-        for (unsigned i = 0; i < 15; ++i)
-          for (unsigned j = 0; j < 15; ++j)
-            if (dofs[i] >= 0 && dofs[j] >= 0 && H(i, j) != 0)
-              h.emplace_back(dofs[i], dofs[j], H(i, j));
-      }
+    const auto                                 pairs = pairs_at(q);
+    std::vector<Eigen::Matrix<double, 15, 15>> local(pairs->size());
+    std::vector<std::array<long, 15>>          dofs(pairs->size());
+    for_each_block(pairs->size(), pairs_per_block, [&](const std::size_t begin, const std::size_t end) {
+      for (std::size_t p = begin; p < end; ++p)
+        {
+          dofs[p] = pair_dofs((*pairs)[p]);
+          std::array<Hessian, 15> v;
+          for (unsigned k = 0; k < 15; ++k)
+            v[k] = Hessian(15, k, Gradient(15, k, dofs[p][k] >= 0 ? q[dofs[p][k]] : 0.0));
+          const Hessian                  e = pair_energy((*pairs)[p], v);
+          Eigen::Matrix<double, 15, 15> &H = local[p];
+          for (unsigned i = 0; i < 15; ++i)
+            for (unsigned j = 0; j < 15; ++j)
+              H(i, j) = e.dx(i).dx(j);
+          H = 0.5 * (H + H.transpose()).eval();
+          if (contact.project_hessians)
+            project_to_positive_semidefinite(H); // IPC: negative eigenvalues clamped to zero
+        }
+    });
+    for (std::size_t p = 0; p < pairs->size(); ++p)
+      for (unsigned i = 0; i < 15; ++i)
+        for (unsigned j = 0; j < 15; ++j)
+          if (dofs[p][i] >= 0 && dofs[p][j] >= 0 && local[p](i, j) != 0)
+            h.emplace_back(dofs[p][i], dofs[p][j], local[p](i, j));
   }
 
   bool ContactBarrier::is_valid(const Eigen::VectorXd &q) const

@@ -29,7 +29,8 @@ def main():
     parser.add_argument("--expect-in-file", action="append", default=[],
                         help="NAME:TEXT: the result file NAME contains TEXT")
     parser.add_argument("--expect-json", action="append", default=[],
-                        help="KEY=VALUE: a summary.json entry (a.b inside objects) with this value")
+                        help="KEY=VALUE: a summary.json entry (a.b inside objects) with this value; "
+                             "KEY>=VALUE: a number at least this")
     args = parser.parse_args()
     work = tempfile.mkdtemp(prefix="nlmech_partial_")
     try:
@@ -63,12 +64,16 @@ def main():
             content = open(path).read() if os.path.isfile(path) else ""
             checks[f"{name} contains '{text}'"] = text in content
         for item in args.expect_json:
-            key, value = item.split("=", 1)
+            at_least = ">=" in item
+            key, value = item.split(">=" if at_least else "=", 1)
             entry = summary
             for part in key.split("."):
                 entry = entry.get(part, {}) if isinstance(entry, dict) else {}
             entry = entry.get("value", entry) if isinstance(entry, dict) else entry
-            checks[f"summary {key} == {value}"] = str(entry).lower() == value.lower()
+            if at_least:
+                checks[f"summary {key} >= {value}"] = isinstance(entry, (int, float)) and entry >= float(value)
+            else:
+                checks[f"summary {key} == {value}"] = str(entry).lower() == value.lower()
         for name, ok in checks.items():
             print(f"{'ok  ' if ok else 'FAIL'}: {name}")
         return 0 if all(checks.values()) else 1

@@ -1,3 +1,4 @@
+#include <nlmech/base/serial_blas.h>
 #include <nlmech/base/stopwatch.h>
 #include <nlmech/base/threads.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
@@ -23,6 +24,8 @@ namespace nlmech
   void SparseFactorization::factorize(const Eigen::SparseMatrix<double> &A, const bool symmetric)
   {
     const auto start = std::chrono::steady_clock::now();
+    serialise_openmp(); // for this thread (the constructor may have run on another)
+    const auto blas = lock_serial_blas();
     ++n_factorizations;
     use_cholesky = false;
     matrix       = A;
@@ -63,6 +66,7 @@ namespace nlmech
   Eigen::VectorXd SparseFactorization::solve(const Eigen::VectorXd &b)
   {
     const auto start = std::chrono::steady_clock::now();
+    const auto blas  = lock_serial_blas();
     ++n_solves;
     Eigen::VectorXd x = use_cholesky ? Eigen::VectorXd(cholesky.solve(b)) : Eigen::VectorXd(lu.solve(b));
     // One step of iterative refinement where the solve lost digits (ill-conditioned LU: rods and

@@ -1,5 +1,8 @@
 #include <nlmech/solvers/newton/newton_solver.h>
 
+#include <nlmech/base/serial_blas.h>
+#include <nlmech/base/threads.h>
+
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
 
@@ -82,6 +85,7 @@ namespace nlmech
         A.coeffRef(k, k) += shift * (metric.size() ? metric[free_dofs[k]] : 1.0);
     // The symbolic analysis is reused while the Hessian's pattern does not change (the whole
     // pattern is compared: contact problems trade pairs and can keep the count of nonzeros).
+    serialise_openmp(); // CHOLMOD's OpenMP teams, on whichever thread this solve runs
     Factorization &f = *factorization;
     const bool     same_pattern =
         A.nonZeros() == f.analysed_nonzeros && A.outerSize() + 1 == Eigen::Index(f.analysed_outer.size()) &&
@@ -94,11 +98,14 @@ namespace nlmech
         f.analysed_outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
         f.analysed_inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
       }
-    f.cholesky.factorize(A);
-    ++factorizations;
-    if (f.cholesky.info() != Eigen::Success)
-      return false;
-    direction = f.cholesky.solve(-gradient);
+    {
+      const auto blas = lock_serial_blas();
+      f.cholesky.factorize(A);
+      ++factorizations;
+      if (f.cholesky.info() != Eigen::Success)
+        return false;
+      direction = f.cholesky.solve(-gradient);
+    }
     if (std::getenv("NLMECH_NEWTON_DEBUG") && !(direction.dot(gradient) < 0))
       std::fprintf(stderr, "newton: shift %.3e factorised but gives no descent (dx.g = %.3e, |dx| = %.3e)\n",
                    shift, direction.dot(gradient), direction.norm());
