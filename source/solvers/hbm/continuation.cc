@@ -267,9 +267,55 @@ namespace nlmech
           }
       }
     response.stability_seconds += seconds_since(started);
-    if (!response.points.empty() && (response.points.back().d_omega_ds > 0) != (r.d_omega_ds > 0))
-      response.points.back().fold = true;
     response.points.push_back(r);
+  }
+
+  bool PseudoArclengthContinuation::refine_root(const std::size_t i, const bool fold, PathPoint &root)
+  {
+    // The extended system {h(z, w) = 0, q(z, w) = 0} with q = dA/ds (a peak) or q = dw/ds (a fold:
+    // the bordered system's last tangent component, zero where dh/dz is singular), solved along
+    // the curve: points between path[i] and path[i + 1] are the corrector's solutions on the
+    // hyperplanes at distance s along path[i]'s tangent, so q is a smooth function of s, and its
+    // root is bracketed by the two path points. Regula falsi with the Illinois modification keeps
+    // the bracket and converges superlinearly; it stops when q vanishes to round-off or the
+    // bracket is as narrow as the corrector can resolve.
+    auto   q = [fold](const PathPoint &p) { return fold ? p.tomega : p.dA_ds; };
+    double a = 0, b = path[i].step > 0 ? path[i].step
+                                       : norm(path[i + 1].z - path[i].z, path[i + 1].omega - path[i].omega);
+    double qa = q(path[i]), qb = q(path[i + 1]);
+    root = std::abs(qa) < std::abs(qb) ? path[i] : path[i + 1];
+    if (!(qa * qb < 0))
+      return qa == 0 || qb == 0;
+    // q's scale: dA/ds against the amplitude, dw/ds against the unit tangent.
+    const double q_scale = fold ? 1.0 : std::max(std::abs(qa), std::abs(qb));
+    int          side    = 0;
+    for (int it = 0; it < 60 && b - a > 1e-13 * b; ++it)
+      {
+        const double s = (a * qb - b * qa) / (qb - qa);
+        PathPoint    trial;
+        if (!correct(path[i], s, trial, false))
+          return false;
+        tangent(trial, wz * path[i].tz, ww * path[i].tomega);
+        const double qs = q(trial);
+        root            = trial;
+        if (std::abs(qs) <= 1e-14 * q_scale)
+          break;
+        if ((qs < 0) == (qa < 0))
+          {
+            a = s, qa = qs;
+            if (side == -1)
+              qb *= 0.5;
+            side = -1;
+          }
+        else
+          {
+            b = s, qb = qs;
+            if (side == 1)
+              qa *= 0.5;
+            side = 1;
+          }
+      }
+    return true;
   }
 
   void PseudoArclengthContinuation::refine_peaks()
@@ -277,25 +323,8 @@ namespace nlmech
     for (std::size_t i = 0; i + 1 < path.size(); ++i)
       if (path[i].dA_ds > 0 && path[i + 1].dA_ds <= 0)
         {
-          // Arclength between the points in the weighted norm, along the chord (the step that
-          // produced path[i + 1], so that both ends are the same function of s).
-          double    a  = 0;
-          double    b  = path[i].step > 0 ? path[i].step
-                                          : norm(path[i + 1].z - path[i].z, path[i + 1].omega - path[i].omega);
-          double    ga = path[i].dA_ds, gb = path[i + 1].dA_ds;
-          PathPoint best = std::abs(ga) < std::abs(gb) ? path[i] : path[i + 1];
-          for (int it = 0; it < 12 && std::abs(b - a) > 1e-10 * (1 + b); ++it)
-            {
-              const double s = b - gb * (b - a) / (gb - ga);
-              PathPoint    trial;
-              if (!correct(path[i], s, trial, false))
-                break;
-              tangent(trial, wz * path[i].tz, ww * path[i].tomega);
-              a = b, ga = gb, b = s, gb = trial.dA_ds;
-              best = trial;
-              if (std::abs(gb) < 1e-12 * (1 + best.amplitude))
-                break;
-            }
+          PathPoint best;
+          refine_root(i, false, best);
           Resonance r;
           r.omega = best.omega, r.amplitude = best.amplitude, r.z = best.z;
           // Near a fold dA/ds can flip twice within a step or two: one peak.
@@ -307,6 +336,37 @@ namespace nlmech
           else
             response.peaks.push_back(r);
         }
+  }
+
+  void PseudoArclengthContinuation::refine_folds()
+  {
+    // Each turning point becomes a point of the curve of its own, between the two path points it
+    // lies between (response.points and path are one to one); its stability is that of the branch
+    // it closes (a Floquet multiplier is exactly 1 there).
+    std::vector<ResponsePoint> points;
+    for (std::size_t i = 0; i < path.size(); ++i)
+      {
+        points.push_back(response.points[i]);
+        if (i + 1 == path.size() || (path[i].tomega > 0) == (path[i + 1].tomega > 0))
+          continue;
+        PathPoint turn;
+        if (!refine_root(i, true, turn))
+          {
+            points.back().fold = true; // not located: the nearest point before it carries the mark
+            continue;
+          }
+        ResponsePoint r;
+        r.omega = turn.omega, r.z = turn.z, r.amplitude = turn.amplitude, r.d_omega_ds = turn.tomega;
+        r.iterations = turn.iterations, r.fold = true;
+        r.stable = points.back().stable, r.hill = points.back().hill, r.max_multiplier = 1;
+        for (const std::size_t d : settings.tracked_dofs)
+          r.half_range = std::max(r.half_range, hb.half_range(turn.z, turn.omega, d));
+        points.push_back(r);
+        TurningPoint t;
+        t.omega = turn.omega, t.amplitude = turn.amplitude, t.z = turn.z;
+        response.folds.push_back(t);
+      }
+    response.points = std::move(points);
   }
 
   FrequencyResponse PseudoArclengthContinuation::trace(Eigen::VectorXd z)
@@ -404,6 +464,7 @@ namespace nlmech
         reweight(current);
       }
     refine_peaks();
+    refine_folds();
     response.factorizations        = at_current.n_factorizations + work.n_factorizations;
     response.factorization_seconds = at_current.factorization_seconds + work.factorization_seconds;
     response.solve_seconds         = at_current.solve_seconds + work.solve_seconds;

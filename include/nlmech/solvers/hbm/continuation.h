@@ -45,8 +45,15 @@ namespace nlmech
     void reweight(PathPoint &current);
     // Stability of a point (Hill from the bordered factorisation, or Floquet) and its record.
     void record(const PathPoint &p);
-    // Resonance peaks: dA/ds from + to - between path points, refined by the secant method.
+    // A root of dA/ds (fold = false) or of dw/ds (fold = true) between path[i] and path[i + 1],
+    // located to the corrector's tolerance; false when the corrector fails on the way (`root` is
+    // then the best point so far).
+    bool refine_root(std::size_t i, bool fold, PathPoint &root);
+    // Resonance peaks: dA/ds from + to - between path points, located exactly (refine_root).
     void refine_peaks();
+    // Folds: dw/ds changes sign between path points; each located exactly and inserted into the
+    // curve's points with its fold mark.
+    void refine_folds();
 
     double norm(const Eigen::VectorXd &dz, double dw) const
     {

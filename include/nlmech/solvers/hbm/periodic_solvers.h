@@ -135,8 +135,8 @@ namespace nlmech
   struct ResponsePoint
   {
     double          omega = 0, amplitude = 0, half_range = 0;
-    double          d_omega_ds     = 0; // sign changes at folds
-    bool            fold           = false;
+    double          d_omega_ds     = 0;     // sign changes at folds
+    bool            fold           = false; // this point is a fold (located exactly)
     int             stable         = -1;    // 1 stable, 0 unstable, -1 not computed or not determined
     double          max_multiplier = 0;     // Floquet: largest |mu|; Hill: exp(max Re lambda T)
     bool            hill           = false; // stability from Hill's method (else Floquet)
@@ -150,10 +150,20 @@ namespace nlmech
     Eigen::VectorXd z;
   };
 
+  /// A turning point of the curve in the frequency (a saddle-node fold): dh/dz is singular there.
+  struct TurningPoint
+  {
+    double          omega = 0, amplitude = 0;
+    Eigen::VectorXd z;
+  };
+
   struct FrequencyResponse
   {
+    /// The curve's points in order; each fold is a point of its own (fold = true), located on the
+    /// curve to the corrector's tolerance, as are the peaks.
     std::vector<ResponsePoint> points;
     std::vector<Resonance>     peaks;
+    std::vector<TurningPoint>  folds;
     bool                       completed = false;
     std::string                stop_reason;
     unsigned int               factorizations = 0, rejected_steps = 0;
