@@ -13,6 +13,7 @@ packages=(
   libceres-dev          # Ceres: the Levenberg-Marquardt baseline of the inverse-design comparison
   libopenblas0-serial   # optimised BLAS/LAPACK behind UMFPACK/CHOLMOD (serial: one thread per MPI rank)
   openmpi-bin
+  libnlopt-cxx-dev      # NLopt: bound-constrained L-BFGS of harmonic-balance design
   coinor-libipopt-dev   # Ipopt: the general nonlinear-programming baseline of the strain-limiting benchmark
   python3 python3-matplotlib python3-numpy
   python3-cvxopt        # reference conic solver for the SOCP tests

@@ -477,6 +477,51 @@ namespace nlmech
     return out;
   }
 
+  Eigen::VectorXd HarmonicBalance::mass_residual(const Eigen::VectorXd &z, const double omega,
+                                                 const Eigen::VectorXd &mass_change) const
+  {
+    const std::size_t n   = free_dofs.size();
+    Eigen::VectorXd   out = Eigen::VectorXd::Zero(z.size());
+    for (unsigned int k = 1; k <= H; ++k)
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          const double m = mass_change[Eigen::Index(i)];
+          if (m == 0)
+            continue;
+          const double s = z[(2 * k - 1) * n + i], c = z[(2 * k) * n + i];
+          const double stiffness   = -std::pow(k * omega, 2) * m,
+                       damping     = k * omega * settings.rayleigh_mass * m;
+          out[(2 * k - 1) * n + i] = stiffness * s - damping * c;
+          out[(2 * k) * n + i]     = stiffness * c + damping * s;
+        }
+    return out;
+  }
+
+  Eigen::VectorXd HarmonicBalance::coefficients_of_samples(const Eigen::MatrixXd &free_samples) const
+  {
+    AssertThrow(free_samples.rows() == Eigen::Index(free_dofs.size()) &&
+                    free_samples.cols() == Eigen::Index(N),
+                dealii::ExcMessage("coefficients_of_samples: n_free x N_AFT samples expected."));
+    return to_frequency(free_samples);
+  }
+
+  Eigen::MatrixXd HarmonicBalance::adjoint_sample_weights(const Eigen::VectorXd &lambda) const
+  {
+    const std::size_t n = free_dofs.size();
+    // to_frequency is c = S Ginv^T per unknown (row i of S), so lambda^T c = sum_ij (Lambda Ginv)_ij S_ij
+    // with Lambda the n x (2H+1) view of lambda.
+    return Eigen::Map<const Eigen::MatrixXd>(lambda.data(), Eigen::Index(n), 2 * H + 1) * gamma_inverse;
+  }
+
+  Eigen::MatrixXd HarmonicBalance::sample_velocities(const Eigen::VectorXd &z, const double omega) const
+  {
+    const Eigen::MatrixXd v = sample_free_velocities(z, omega);
+    Eigen::MatrixXd       out(base.size(), N);
+    for (unsigned int j = 0; j < N; ++j)
+      out.col(j) = full_velocity(v.col(j), 2 * pi * j / N, omega);
+    return out;
+  }
+
   Eigen::VectorXd HarmonicBalance::residual(const Eigen::VectorXd &z, const double omega) const
   {
     AssertThrow(omega > 0, dealii::ExcMessage("Harmonic balance needs a positive frequency."));

@@ -135,6 +135,23 @@ namespace nlmech
     void   set_excitation_scale(double scale) const { excitation = scale; }
     double excitation_scale() const { return excitation; }
 
+    // Parameter derivatives for design (solvers/hbm/design.h): the residual h = A(w) z - F[f] is
+    // linear in the lumped masses and in the sampled forces, so dh/dp at fixed z is the linear part
+    // with the mass change and minus the coefficients of the sampled force change.
+
+    /// The linear part A(w) z with the free masses replaced by `mass_change` (free length): the
+    /// inertia and mass-proportional damping of a change of the masses.
+    Eigen::VectorXd mass_residual(const Eigen::VectorXd &z, double omega,
+                                  const Eigen::VectorXd &mass_change) const;
+    /// Fourier coefficients (free-length harmonic blocks) of free-length samples (n_free x N_AFT).
+    Eigen::VectorXd coefficients_of_samples(const Eigen::MatrixXd &free_samples) const;
+    /// The samples' weights of lambda^T coefficients_of_samples(S) = sum_ij W_ij S_ij (n_free x N):
+    /// an adjoint vector's view of the sampled forces, computed once for every parameter.
+    Eigen::MatrixXd adjoint_sample_weights(const Eigen::VectorXd &lambda) const;
+    /// Full-length velocities at the N samples (one column per sample), prescribed motion included.
+    Eigen::MatrixXd sample_velocities(const Eigen::VectorXd &z, double omega) const;
+    /// Position among the free unknowns of unknown i (-1: fixed or prescribed).
+    long free_position(std::size_t i) const { return free_index[i]; }
     /// Coefficients of harmonic k (0..H) of free unknown i: (s_k, c_k); s_0 = 0.
     std::pair<double, double> coefficient(const Eigen::VectorXd &z, std::size_t free_index,
                                           unsigned int k) const;

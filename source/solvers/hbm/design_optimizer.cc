@@ -1,0 +1,107 @@
+// Bound-constrained L-BFGS on the harmonic-balance design objective (NLopt, design.h).
+#include <deal.II/base/exceptions.h>
+
+#include <nlmech/solvers/hbm/design.h>
+
+#include <nlopt.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace nlmech
+{
+  OptimizationResult optimize_design(HarmonicDesign &design, const OptimizationSettings &settings)
+  {
+    const std::size_t   n = design.n_parameters();
+    std::vector<double> lower(n), upper(n), x(n);
+    const auto          p0 = design.values();
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        lower[k] = design.design_parameters()[k]->lower, upper[k] = design.design_parameters()[k]->upper;
+        x[k] = p0[Eigen::Index(k)];
+      }
+    OptimizationResult result;
+    const auto         started   = std::chrono::steady_clock::now();
+    Eigen::VectorXd    last_good = p0;
+    double             best_f    = std::numeric_limits<double>::infinity();
+
+    auto evaluate = [&](const std::vector<double> &q, std::vector<double> &grad) {
+      Eigen::VectorXd p = Eigen::Map<const Eigen::VectorXd>(q.data(), Eigen::Index(n));
+      ++result.evaluations;
+      std::string why;
+      if (!design.update(p, &why))
+        {
+          // No periodic state here (beyond a fold the continuation could not cross): a large value
+          // with a gradient pointing back to the last design that solved, so the line search
+          // steps back.
+          const double big    = 10 * std::abs(std::isfinite(best_f) ? best_f : 1.0) + 1;
+          const double range2 = std::max((Eigen::Map<const Eigen::VectorXd>(upper.data(), Eigen::Index(n)) -
+                                          Eigen::Map<const Eigen::VectorXd>(lower.data(), Eigen::Index(n)))
+                                             .squaredNorm(),
+                                         1e-300);
+          if (!grad.empty())
+            for (std::size_t k = 0; k < n; ++k)
+              grad[k] = 2 * big * (p[Eigen::Index(k)] - last_good[Eigen::Index(k)]) / range2;
+          return big * (1 + (p - last_good).squaredNorm() / range2);
+        }
+      last_good = p;
+      Eigen::VectorXd g;
+      const double    f = design.objective(grad.empty() ? nullptr : &g);
+      for (std::size_t k = 0; k < grad.size(); ++k)
+        grad[k] = g[Eigen::Index(k)];
+      DesignIterate it;
+      it.iteration = result.evaluations, it.objective = f, it.parameters = p;
+      it.gradient_norm = g.size() > 0 ? g.norm() : 0.0;
+      it.seconds       = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      result.history.push_back(it);
+      if (f < best_f)
+        best_f = f, result.best = it;
+      if (settings.progress)
+        settings.progress(it);
+      return f;
+    };
+    std::function<double(const std::vector<double> &, std::vector<double> &)> function = evaluate;
+    nlopt::opt opt(nlopt::LD_LBFGS, unsigned(n));
+    opt.set_lower_bounds(lower);
+    opt.set_upper_bounds(upper);
+    opt.set_min_objective([](const std::vector<double> &q, std::vector<double> &grad,
+                             void *data) { return (*static_cast<decltype(function) *>(data))(q, grad); },
+                          &function);
+    opt.set_ftol_rel(settings.relative_tolerance);
+    opt.set_maxeval(int(settings.max_iterations));
+    if (settings.time_limit > 0)
+      opt.set_maxtime(settings.time_limit);
+    double value = 0;
+    try
+      {
+        const nlopt::result r = opt.optimize(x, value);
+        result.converged      = r == nlopt::SUCCESS || r == nlopt::FTOL_REACHED || r == nlopt::XTOL_REACHED;
+        result.stop_reason    = r == nlopt::MAXEVAL_REACHED ? "the largest number of evaluations was reached"
+                                : r == nlopt::MAXTIME_REACHED ? "the time limit was reached"
+                                : r == nlopt::FTOL_REACHED ? "the objective changed by less than its tolerance"
+                                : r == nlopt::XTOL_REACHED
+                                    ? "the parameters changed by less than their tolerance"
+                                    : "converged";
+      }
+    catch (const nlopt::roundoff_limited &)
+      {
+        // NLopt's L-BFGS ends this way when its line search cannot improve the objective at
+        // double precision: a (local) optimum to round-off.
+        result.converged   = true;
+        result.stop_reason = "the line search reached round-off (a local optimum)";
+      }
+    catch (const std::exception &e)
+      {
+        result.stop_reason = std::string("the optimiser stopped: ") + e.what();
+      }
+    AssertThrow(!result.history.empty(),
+                dealii::ExcMessage("Design: the optimiser evaluated nothing (" + result.stop_reason + ")."));
+    // Leave the best design set (the last evaluation may have been a line-search trial).
+    std::string why;
+    AssertThrow(design.update(result.best.parameters, &why),
+                dealii::ExcMessage("Design: the best design no longer solves (" + why + ")."));
+    return result;
+  }
+} // namespace nlmech

@@ -1,0 +1,334 @@
+#include <deal.II/base/exceptions.h>
+
+#include <nlmech/models/dynamics/elastic_solids.h>
+#include <nlmech/models/scaled_energy.h>
+#include <nlmech/solvers/hbm/design_parameters.h>
+
+#include <cmath>
+
+namespace nlmech
+{
+  namespace
+  {
+    /// The Model with its term i replaced (masses and fixed unknowns kept).
+    void replace_term(Model &model, const std::size_t i, std::shared_ptr<const EnergyTerm> term)
+    {
+      AssertThrow(i < model.terms().size(),
+                  dealii::ExcMessage("Design: no energy term " + std::to_string(i) + "."));
+      Model rebuilt(model.n_unknowns());
+      for (std::size_t t = 0; t < model.terms().size(); ++t)
+        rebuilt.add_term(t == i ? term : model.terms()[t]);
+      rebuilt.lumped_mass() = model.lumped_mass();
+      for (const auto &f : model.fixed())
+        rebuilt.fix(f.first, f.second);
+      model = std::move(rebuilt);
+    }
+
+    class PointMass : public DesignParameter
+    {
+    public:
+      PointMass(std::string name, Model &model, std::vector<std::size_t> dofs, double initial, double lower,
+                double upper)
+          : DesignParameter(std::move(name), lower, upper)
+          , model(model)
+          , dofs(std::move(dofs))
+          , current(initial)
+      {
+        AssertThrow(!this->dofs.empty(), dealii::ExcMessage("Design: a point mass needs unknowns."));
+        for (const std::size_t d : this->dofs)
+          {
+            AssertThrow(d < model.n_unknowns(),
+                        dealii::ExcMessage("Design: a point mass on a missing unknown."));
+            base.push_back(model.lumped_mass()[Eigen::Index(d)]);
+          }
+        set(initial);
+      }
+      double value() const override { return current; }
+      void   set(const double m) override
+      {
+        current = m;
+        for (std::size_t i = 0; i < dofs.size(); ++i)
+          model.lumped_mass()[Eigen::Index(dofs[i])] = base[i] + m;
+      }
+      Eigen::VectorXd mass_change(const std::size_t n) const override
+      {
+        Eigen::VectorXd d = Eigen::VectorXd::Zero(Eigen::Index(n));
+        for (const std::size_t i : dofs)
+          d[Eigen::Index(i)] = 1;
+        return d;
+      }
+
+    private:
+      Model                   &model;
+      std::vector<std::size_t> dofs;
+      std::vector<double>      base;
+      double                   current;
+    };
+
+    class ForceAmplitude : public DesignParameter
+    {
+    public:
+      ForceAmplitude(std::string name, std::vector<HarmonicForce> &forces, std::vector<std::size_t> which,
+                     double lower, double upper)
+          : DesignParameter(std::move(name), lower, upper)
+          , forces(forces)
+          , which(std::move(which))
+      {
+        for (const std::size_t i : this->which)
+          {
+            AssertThrow(i < forces.size(), dealii::ExcMessage("Design: no such point force."));
+            base.push_back(forces[i].amplitude);
+          }
+      }
+      double value() const override { return factor; }
+      void   set(const double p) override
+      {
+        factor = p;
+        for (std::size_t k = 0; k < which.size(); ++k)
+          forces[which[k]].amplitude = p * base[k];
+      }
+      bool changes_force() const override { return true; }
+      void add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &, const Eigen::VectorXd &,
+                            const double theta, const double, Eigen::VectorXd &df) const override
+      {
+        for (std::size_t k = 0; k < which.size(); ++k)
+          df[Eigen::Index(forces[which[k]].dof)] +=
+              hb.excitation_scale() * base[k] * std::cos(theta + forces[which[k]].phase);
+      }
+
+    private:
+      std::vector<HarmonicForce> &forces;
+      std::vector<std::size_t>    which;
+      std::vector<double>         base;
+      double                      factor = 1;
+    };
+
+    class ForcePhase : public DesignParameter
+    {
+    public:
+      ForcePhase(std::string name, std::vector<HarmonicForce> &forces, std::vector<std::size_t> which,
+                 double lower, double upper)
+          : DesignParameter(std::move(name), lower, upper)
+          , forces(forces)
+          , which(std::move(which))
+      {
+        for (const std::size_t i : this->which)
+          {
+            AssertThrow(i < forces.size(), dealii::ExcMessage("Design: no such point force."));
+            base.push_back(forces[i].phase);
+          }
+      }
+      double value() const override { return offset; }
+      void   set(const double p) override
+      {
+        offset = p;
+        for (std::size_t k = 0; k < which.size(); ++k)
+          forces[which[k]].phase = base[k] + p;
+      }
+      bool changes_force() const override { return true; }
+      void add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &, const Eigen::VectorXd &,
+                            const double theta, const double, Eigen::VectorXd &df) const override
+      {
+        for (const std::size_t i : which)
+          df[Eigen::Index(forces[i].dof)] -=
+              hb.excitation_scale() * forces[i].amplitude * std::sin(theta + forces[i].phase);
+      }
+
+    private:
+      std::vector<HarmonicForce> &forces;
+      std::vector<std::size_t>    which;
+      std::vector<double>         base;
+      double                      offset = 0;
+    };
+
+    class DriveAmplitude : public DesignParameter
+    {
+    public:
+      DriveAmplitude(std::string name, std::vector<HarmonicDrive> &drives, double lower, double upper)
+          : DesignParameter(std::move(name), lower, upper)
+          , drives(drives)
+          , base(drives)
+      {
+        AssertThrow(!drives.empty(), dealii::ExcMessage("Design: the drive amplitude needs a drive."));
+      }
+      double value() const override { return factor; }
+      void   set(const double p) override
+      {
+        factor = p;
+        for (std::size_t k = 0; k < drives.size(); ++k)
+          {
+            drives[k].amplitude = p * base[k].amplitude;
+            for (std::size_t h = 0; h < base[k].sine.size(); ++h)
+              drives[k].sine[h] = p * base[k].sine[h];
+            for (std::size_t h = 0; h < base[k].cosine.size(); ++h)
+              drives[k].cosine[h] = p * base[k].cosine[h];
+          }
+      }
+      bool changes_force() const override { return true; }
+      void add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                            const double theta, const double omega, Eigen::VectorXd &df) const override
+      {
+        // Penalty drives pull with k (target - x): df = k d(target)/dp. Prescribed drives move their
+        // unknowns: df = -d(grad E + D_beta K v)/dx dx_p - D_beta K dv_p for dx_p, dv_p the motion.
+        const double    s  = hb.excitation_scale();
+        Eigen::VectorXd dx = Eigen::VectorXd::Zero(x.size()), dv = Eigen::VectorXd::Zero(x.size());
+        bool            prescribed = false;
+        for (const auto &d : base)
+          if (d.stiffness > 0)
+            df[Eigen::Index(d.dof)] += d.stiffness * s * d.motion(theta);
+          else
+            dx[Eigen::Index(d.dof)] = s * d.motion(theta),
+            dv[Eigen::Index(d.dof)] = s * d.velocity(theta, omega), prescribed = true;
+        if (!prescribed)
+          return;
+        const Model &model = hb.model();
+        const double beta  = hb.parameters().rayleigh_stiffness;
+        df -= model.hessian(x) * dx;
+        if (beta > 0)
+          df -= beta * (model.directional_hessian(x, v) * dx + model.hessian_vector_product(x, dv));
+      }
+
+    private:
+      std::vector<HarmonicDrive>      &drives;
+      const std::vector<HarmonicDrive> base;
+      double                           factor = 1;
+    };
+
+    class TermModulus : public DesignParameter
+    {
+    public:
+      TermModulus(std::string name, Model &model, const std::size_t term, const double modulus, double lower,
+                  double upper)
+          : DesignParameter(std::move(name), lower, upper)
+          , inner(model.terms().at(term))
+          , factor(std::make_shared<double>(1.0))
+          , modulus(modulus)
+      {
+        AssertThrow(modulus > 0, dealii::ExcMessage("Design: the initial modulus must be positive."));
+        replace_term(model, term, std::make_shared<ScaledEnergyTerm>(inner, factor));
+      }
+      double value() const override { return *factor * modulus; }
+      void   set(const double E) override { *factor = E / modulus; }
+      bool   changes_force() const override { return true; }
+      void   add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                              const double, const double, Eigen::VectorXd &df) const override
+      {
+        // f = -s grad E(x) - D_beta s H(x) v with s = E / E_0.
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+        inner->add_gradient(x, g);
+        const double beta = hb.parameters().rayleigh_stiffness;
+        if (beta > 0)
+          inner->add_hessian_vector_product(x, beta * v, g);
+        df -= g / modulus;
+      }
+
+    private:
+      std::shared_ptr<const EnergyTerm> inner;
+      std::shared_ptr<double>           factor;
+      double                            modulus;
+    };
+
+    using ScaledPlane = ScaledElements<PlaneTriangleElements>;
+
+    class ElementModulus : public DesignParameter
+    {
+    public:
+      ElementModulus(std::string name, std::shared_ptr<const ScaledPlane> elements,
+                     std::vector<std::size_t> group, double modulus, double lower, double upper)
+          : DesignParameter(std::move(name), lower, upper)
+          , elements(std::move(elements))
+          , group(std::move(group))
+          , modulus(modulus)
+      {
+      }
+      double value() const override { return (*elements->factors)[group.front()] * modulus; }
+      void   set(const double E) override
+      {
+        for (const std::size_t e : group)
+          (*elements->factors)[e] = E / modulus;
+      }
+      bool changes_force() const override { return true; }
+      void add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                            const double, const double, Eigen::VectorXd &df) const override
+      {
+        const double beta = hb.parameters().rayleigh_stiffness;
+        for (const std::size_t e : group)
+          add_element_force_derivatives(elements->inner, e, x, v, -1.0 / modulus, -beta / modulus, df);
+      }
+
+    private:
+      std::shared_ptr<const ScaledPlane> elements;
+      std::vector<std::size_t>           group;
+      double                             modulus;
+    };
+  } // namespace
+
+  std::shared_ptr<DesignParameter> make_point_mass_parameter(std::string name, Model &model,
+                                                             std::vector<std::size_t> dofs,
+                                                             const double initial, const double lower,
+                                                             const double upper)
+  {
+    AssertThrow(lower >= 0, dealii::ExcMessage("Design: a point mass's lower bound must not be negative."));
+    return std::make_shared<PointMass>(std::move(name), model, std::move(dofs), initial, lower, upper);
+  }
+
+  std::shared_ptr<DesignParameter> make_force_amplitude_parameter(std::string                 name,
+                                                                  std::vector<HarmonicForce> &forces,
+                                                                  std::vector<std::size_t>    which,
+                                                                  const double lower, const double upper)
+  {
+    return std::make_shared<ForceAmplitude>(std::move(name), forces, std::move(which), lower, upper);
+  }
+
+  std::shared_ptr<DesignParameter> make_force_phase_parameter(std::string                 name,
+                                                              std::vector<HarmonicForce> &forces,
+                                                              std::vector<std::size_t>    which,
+                                                              const double lower, const double upper)
+  {
+    return std::make_shared<ForcePhase>(std::move(name), forces, std::move(which), lower, upper);
+  }
+
+  std::shared_ptr<DesignParameter> make_drive_amplitude_parameter(std::string                 name,
+                                                                  std::vector<HarmonicDrive> &drives,
+                                                                  const double lower, const double upper)
+  {
+    return std::make_shared<DriveAmplitude>(std::move(name), drives, lower, upper);
+  }
+
+  std::shared_ptr<DesignParameter> make_term_modulus_parameter(std::string name, Model &model,
+                                                               const std::size_t term, const double modulus,
+                                                               const double lower, const double upper)
+  {
+    return std::make_shared<TermModulus>(std::move(name), model, term, modulus, lower, upper);
+  }
+
+  std::vector<std::shared_ptr<DesignParameter>> make_element_modulus_parameters(
+      const std::string &name, Model &model, const std::vector<std::vector<std::size_t>> &groups,
+      const std::vector<double> &moduli, const double lower_factor, const double upper_factor)
+  {
+    AssertThrow(groups.size() == moduli.size(), dealii::ExcMessage("Design: one modulus per element group."));
+    std::size_t term = model.terms().size();
+    for (std::size_t t = 0; t < model.terms().size(); ++t)
+      if (dynamic_cast<const PlaneTriangleTerm *>(model.terms()[t].get()))
+        term = t;
+    AssertThrow(term < model.terms().size(),
+                dealii::ExcMessage("Design: a modulus per element needs a plane-triangle model."));
+    const auto &plane  = static_cast<const PlaneTriangleTerm &>(*model.terms()[term]).elements();
+    auto        scaled = std::make_shared<ScaledPlane>();
+    scaled->inner      = plane;
+    scaled->factors    = std::make_shared<std::vector<double>>(plane.n_elements(), 1.0);
+    std::vector<std::shared_ptr<DesignParameter>> out;
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      {
+        AssertThrow(!groups[g].empty(), dealii::ExcMessage("Design: an empty element group."));
+        for (const std::size_t e : groups[g])
+          AssertThrow(e < plane.n_elements(), dealii::ExcMessage("Design: a missing element."));
+        out.push_back(std::make_shared<ElementModulus>(name + "_" + std::to_string(g), scaled, groups[g],
+                                                       moduli[g], lower_factor * moduli[g],
+                                                       upper_factor * moduli[g]));
+      }
+    replace_term(model, term,
+                 std::make_shared<ElementEnergyTerm<ScaledPlane>>("plane StVK triangles (design)", *scaled));
+    return out;
+  }
+} // namespace nlmech
