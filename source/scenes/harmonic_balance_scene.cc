@@ -7,10 +7,14 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <nlmech/base/atomic_output.h>
+#include <nlmech/base/json.h>
+#include <nlmech/base/plot.h>
 #include <nlmech/base/progress.h>
 #include <nlmech/base/rank_sharing.h>
 #include <nlmech/base/run_context.h>
 #include <nlmech/base/scene.h>
+#include <nlmech/scenes/hbm/design_study.h>
 #include <nlmech/scenes/hbm/response_output.h>
 #include <nlmech/scenes/hbm/scene_settings.h>
 #include <nlmech/scenes/hbm/structure.h>
@@ -19,6 +23,7 @@
 #include <nlmech/solvers/newton/newton_solver.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <sstream>
 
 namespace nlmech
@@ -38,6 +43,7 @@ namespace nlmech
           descriptions += (descriptions.empty() ? "" : "; ") + p.name + ": " + p.description;
         HarmonicBalanceSceneSettings::declare_parameters(prm, registry.names_separated_by("|"), descriptions);
         ExcitationSettings::declare_parameters(prm);
+        DesignStudySettings::declare_parameters(prm);
         registry.declare_parameters(prm);
       }
 
@@ -49,6 +55,15 @@ namespace nlmech
         structure = StructureRegistry::instance().get(model_name).create(prm);
         excitation.parse_parameters(prm);
         settings.parse_parameters(prm);
+        design.parse_parameters(prm);
+        if (design.enabled())
+          {
+            std::ostringstream text;
+            prm.print_parameters(
+                text, ParameterHandler::OutputStyle(ParameterHandler::PRM | ParameterHandler::Short));
+            prm_text         = text.str();
+            source_directory = std::filesystem::absolute(current_parameter_directory()).string();
+          }
       }
 
       void validate() const override { structure->validate(); }
@@ -88,6 +103,8 @@ namespace nlmech
             if (hb_settings.n_samples != 0)
               hb_settings.n_samples = std::max(hb_settings.n_samples, 2 * hb_settings.n_harmonics + 1);
           }
+        if (design.enabled())
+          run_design(context, s);
         const HarmonicBalance hb(s.model, hb_settings, s.forces, s.drives);
         context.summary.add_string("model", model_name);
         context.summary.add_number("harmonics", hb_settings.n_harmonics);
@@ -140,6 +157,11 @@ namespace nlmech
             context.pcout << " rad/s" << std::endl;
           }
         write_response(context, hb, s, frc, lma, model_name);
+        if (design.enabled() && settings.trace_curve && design.initial_curve && context.is_root())
+          run_plot("design.py", {"curves", context.output.file("frequency_response_initial.csv"),
+                                 context.output.file("frequency_response.csv"),
+                                 context.output.file("design_frequency_response.png"),
+                                 json_number(design.frequencies.front())});
         if (excitation.period_frames > 0 && context.is_root() && !frc.points.empty())
           {
             TimerOutput::Scope     t(context.timer, "output (one period)");
@@ -158,6 +180,34 @@ namespace nlmech
       }
 
     private:
+      /// The design study (subsection Design): the initial design's curve first, then the study,
+      /// which leaves `s` at the design found.
+      void run_design(RunContext &context, PeriodicStructure &s)
+      {
+        if (settings.trace_curve && design.initial_curve)
+          {
+            TimerOutput::Scope    t(context.timer, "frequency response of the initial design");
+            const HarmonicBalance hb(s.model, settings.harmonic_balance, s.forces, s.drives);
+            ContinuationSettings  cs    = settings.continuation;
+            cs.tracked_dofs             = s.tracked_dofs;
+            cs.stability                = StabilityMethod::none;
+            cs.progress                 = {};
+            const FrequencyResponse frc = trace_frequency_response(hb, hb.static_coefficients(s.rest), cs);
+            std::ostringstream      csv;
+            csv << "omega,amplitude_A,half_range,fold\n";
+            for (const auto &p : frc.points)
+              csv << json_number(p.omega) << "," << json_number(p.amplitude) << ","
+                  << json_number(hb.half_range(p.z, p.omega, s.tracked)) << "," << p.fold << "\n";
+            if (context.is_root())
+              write_file_atomically(context.output.file("frequency_response_initial.csv"), csv.str());
+            context.pcout << "initial design: " << frc.points.size() << " points on the frequency response"
+                          << (frc.completed ? "" : " (stopped: " + frc.stop_reason + ")") << std::endl;
+          }
+        TimerOutput::Scope t(context.timer, "design");
+        run_design_study(context, s, settings.harmonic_balance, settings.continuation, design, prm_text,
+                         source_directory);
+      }
+
       /// The static state under constant loads (gravity) with the drives at their centres: the
       /// start of the curve.
       static void solve_static_state(RunContext &context, PeriodicStructure &s)
@@ -179,6 +229,8 @@ namespace nlmech
       std::unique_ptr<StructurePlugin> structure;
       ExcitationSettings               excitation;
       HarmonicBalanceSceneSettings     settings;
+      DesignStudySettings              design;
+      std::string                      prm_text, source_directory;
     };
   } // namespace
 

@@ -134,6 +134,20 @@ namespace nlmech
           }
         const unsigned int t = settings.tracked_joint;
         s.tracked_dofs       = {2 * t, 2 * t + 1};
+        {
+          const auto joints = std::make_shared<std::vector<std::array<double, 2>>>(mechanism.joints);
+          s.point_dofs      = [joints](const Point<3> &p) {
+            const std::size_t j = nearest_point(*joints, p, 2);
+            return std::vector<std::size_t>{2 * j, 2 * j + 1};
+          };
+          s.point_distance = [joints](const Point<3> &p) {
+            const auto &j = (*joints)[nearest_point(*joints, p, 2)];
+            return std::hypot(j[0] - p[0], j[1] - p[1]);
+          };
+          s.gravity = Eigen::VectorXd::Zero(s.model.n_unknowns());
+          for (std::size_t j = 0; j < mechanism.joints.size(); ++j)
+            s.gravity[Eigen::Index(2 * j + 1)] = -mechanism.gravity;
+        }
         AssertThrow(excitation.tracked_direction < 2,
                     ExcMessage("Tracked direction z does not exist in a planar mechanism."));
         s.tracked = 2 * t + excitation.tracked_direction;

@@ -102,6 +102,20 @@ namespace nlmech
     PeriodicStructure s;
     s.model = std::move(made.model), s.rest = made.rest, dofs_per_vertex = made.dofs_per_vertex;
     const unsigned int d = dofs_per_vertex;
+    s.layer_terms = made.layer_terms, s.element_moduli = made.element_moduli;
+    {
+      const auto vertices = std::make_shared<std::vector<Point<3>>>(mesh.vertices);
+      s.point_dofs        = [vertices, d](const Point<3> &p) {
+        std::vector<std::size_t> dofs;
+        const std::size_t        v = nearest_point(*vertices, p);
+        for (unsigned int i = 0; i < d; ++i)
+          dofs.push_back(d * v + i);
+        return dofs;
+      };
+      s.point_distance = [vertices](const Point<3> &p) {
+        return (*vertices)[nearest_point(*vertices, p)].distance(p);
+      };
+    }
     for (const auto &g : settings.clamped_groups)
       for (const unsigned int v : group_vertices(mesh, g))
         for (unsigned int i = 0; i < d; ++i)

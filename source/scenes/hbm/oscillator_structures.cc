@@ -68,6 +68,8 @@ namespace nlmech
       s.forces            = {{tracked, force, 0.0}};
       s.tracked_dofs      = {tracked};
       s.newmark_from_rest = true;
+      s.point_dofs        = [tracked](const Point<3> &) { return std::vector<std::size_t>{tracked}; };
+      s.point_distance    = [](const Point<3> &) { return 0.0; }; // one mass: every point selects it
       s.rest              = Eigen::VectorXd::Zero(s.model.n_unknowns());
       for (const auto &f : s.model.fixed())
         s.rest[f.first] = f.second;

@@ -125,7 +125,18 @@ namespace nlmech
           }
         const std::size_t t = nearest_point(d.vertices, settings.tracked);
         s.tracked_dofs      = {3 * t, 3 * t + 1, 3 * t + 2};
-        s.tracked           = 3 * t + excitation.tracked_direction;
+        {
+          const auto vertices = std::make_shared<decltype(d.vertices)>(d.vertices);
+          s.point_dofs        = [vertices](const Point<3> &p) {
+            const std::size_t v = nearest_point(*vertices, p);
+            return std::vector<std::size_t>{3 * v, 3 * v + 1, 3 * v + 2};
+          };
+          s.point_distance = [vertices](const Point<3> &p) {
+            const auto &v = (*vertices)[nearest_point(*vertices, p)];
+            return std::sqrt(std::pow(v[0] - p[0], 2) + std::pow(v[1] - p[1], 2) + std::pow(v[2] - p[2], 2));
+          };
+        }
+        s.tracked = 3 * t + excitation.tracked_direction;
         AssertThrow(!s.model.is_fixed(s.tracked), ExcMessage("The tracked vertex is held."));
         context.pcout << "rods: " << d.rods.size() << " rods, " << d.vertices.size() << " vertices, "
                       << net.edges.size() << " edges, " << net.junction_vertices.size() << " junctions, "

@@ -69,6 +69,16 @@ namespace nlmech
         MeshModel  m;
         m.model = std::move(made.model), m.rest = made.rest_positions, m.dofs_per_vertex = made.dim;
         m.material_layers = unsigned(solid.materials.size());
+        // Design: the tet model has one term per layer with cells; the plane one a modulus per element.
+        std::vector<std::size_t> cells(solid.materials.size(), 0);
+        for (const unsigned int l : layers)
+          ++cells[l];
+        long term = 0;
+        for (std::size_t l = 0; l < solid.materials.size(); ++l)
+          m.layer_terms.emplace_back(plane || cells[l] == 0 ? -1 : term++, solid.materials[l].youngs_modulus);
+        if (plane)
+          for (const unsigned int l : layers)
+            m.element_moduli.push_back(solid.materials[l].youngs_modulus);
         return m;
       }
 

@@ -28,10 +28,11 @@ namespace nlmech
     {
     public:
       PointMass(std::string name, Model &model, std::vector<std::size_t> dofs, double initial, double lower,
-                double upper)
+                double upper, Eigen::VectorXd gravity)
           : DesignParameter(std::move(name), lower, upper)
           , model(model)
           , dofs(std::move(dofs))
+          , gravity(std::move(gravity))
           , current(initial)
       {
         AssertThrow(!this->dofs.empty(), dealii::ExcMessage("Design: a point mass needs unknowns."));
@@ -57,10 +58,19 @@ namespace nlmech
           d[Eigen::Index(i)] = 1;
         return d;
       }
+      bool changes_force() const override { return gravity.size() > 0; }
+      void add_force_change(const HarmonicBalance &, const Eigen::VectorXd &, const Eigen::VectorXd &,
+                            const double, const double, Eigen::VectorXd &df) const override
+      {
+        // The weight m g is constant: the static part of the force (harmonic 0).
+        for (const std::size_t i : dofs)
+          df[Eigen::Index(i)] += gravity[Eigen::Index(i)];
+      }
 
     private:
       Model                   &model;
       std::vector<std::size_t> dofs;
+      Eigen::VectorXd          gravity;
       std::vector<double>      base;
       double                   current;
     };
@@ -266,10 +276,13 @@ namespace nlmech
   std::shared_ptr<DesignParameter> make_point_mass_parameter(std::string name, Model &model,
                                                              std::vector<std::size_t> dofs,
                                                              const double initial, const double lower,
-                                                             const double upper)
+                                                             const double upper, Eigen::VectorXd gravity)
   {
     AssertThrow(lower >= 0, dealii::ExcMessage("Design: a point mass's lower bound must not be negative."));
-    return std::make_shared<PointMass>(std::move(name), model, std::move(dofs), initial, lower, upper);
+    AssertThrow(gravity.size() == 0 || gravity.size() == Eigen::Index(model.n_unknowns()),
+                dealii::ExcMessage("Design: gravity needs one value per unknown."));
+    return std::make_shared<PointMass>(std::move(name), model, std::move(dofs), initial, lower, upper,
+                                       std::move(gravity));
   }
 
   std::shared_ptr<DesignParameter> make_force_amplitude_parameter(std::string                 name,

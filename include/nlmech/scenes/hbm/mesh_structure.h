@@ -29,10 +29,12 @@ namespace nlmech
   /// A Model on a mesh with its rest positions and unknowns per vertex.
   struct MeshModel
   {
-    Model           model{0};
-    Eigen::VectorXd rest;
-    unsigned int    dofs_per_vertex = 3;
-    unsigned int    material_layers = 1;
+    Model                                model{0};
+    Eigen::VectorXd                      rest;
+    unsigned int                         dofs_per_vertex = 3;
+    unsigned int                         material_layers = 1;
+    std::vector<std::pair<long, double>> layer_terms;    // PeriodicStructure::layer_terms
+    std::vector<double>                  element_moduli; // PeriodicStructure::element_moduli
   };
 
   class MeshStructure : public StructurePlugin

@@ -14,6 +14,7 @@
 
 #include <Eigen/Dense>
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,6 +36,18 @@ namespace nlmech
     /// state) instead of from the HBM state (structures where a start from rest is a hard Newton
     /// problem).
     bool newmark_from_rest = false;
+
+    // What design parameters (scenes/hbm/design_study.h) select on; set by the plugins that offer it.
+    /// The unknowns of the vertex, joint or mass nearest to a point (point masses); empty: none.
+    std::function<std::vector<std::size_t>(const dealii::Point<3> &)> point_dofs;
+    /// The vertex, joint or mass's distance from that point [m] (a point mass far off the model is refused).
+    std::function<double(const dealii::Point<3> &)> point_distance;
+    /// Gravity's acceleration per unknown (full length; empty: none): a point mass's weight.
+    Eigen::VectorXd gravity;
+    /// Per material layer (from 0): its energy term and Young's modulus (term -1: no cells).
+    std::vector<std::pair<long, double>> layer_terms;
+    /// Young's modulus of every element of a plane-triangle model (empty: not a plane model).
+    std::vector<double> element_moduli;
   };
 
   /// subsection Structure, the entries every excited structure shares: the translation drive, point

@@ -16,10 +16,12 @@
 
 namespace nlmech
 {
-  /// An extra mass m >= 0 at a vertex: every listed unknown's lumped mass is its initial one plus m.
+  /// An extra mass m >= 0 at a vertex: every listed unknown's lumped mass is its initial one plus m;
+  /// with `gravity` (acceleration per unknown, full length) also its weight m g.
   std::shared_ptr<DesignParameter> make_point_mass_parameter(std::string name, Model &model,
                                                              std::vector<std::size_t> dofs, double initial,
-                                                             double lower, double upper);
+                                                             double lower, double upper,
+                                                             Eigen::VectorXd gravity = {});
 
   /// The factor p on the amplitudes of the listed point forces (1: as declared).
   std::shared_ptr<DesignParameter> make_force_amplitude_parameter(std::string                 name,

@@ -1,0 +1,596 @@
+// subsection Design of the harmonic-balance scene (design_study.h).
+#include <deal.II/base/exceptions.h>
+
+#include <nlmech/base/atomic_output.h>
+#include <nlmech/base/json.h>
+#include <nlmech/base/parse.h>
+#include <nlmech/base/plot.h>
+#include <nlmech/base/progress.h>
+#include <nlmech/base/run_context.h>
+#include <nlmech/scenes/hbm/design_study.h>
+#include <nlmech/solvers/hbm/design.h>
+#include <nlmech/solvers/hbm/design_parameters.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace nlmech
+{
+  using namespace dealii;
+
+  namespace
+  {
+    constexpr double pi = 3.14159265358979323846;
+
+    std::string trim(const std::string &s)
+    {
+      const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
+      return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+    }
+
+    /// One `KIND [SELECTION] = INITIAL in LOWER, UPPER`.
+    struct ParameterSpec
+    {
+      std::string kind, selection, text;
+      double      initial = 0, lower = 0, upper = 0;
+    };
+
+    ParameterSpec parse_spec(const std::string &text)
+    {
+      static const std::regex form(
+          R"(^\s*([a-z ]+?)\s*(?:(at|[0-9]+)\s*([^=]*))?=\s*(\S+)\s+in\s+(\S+)\s*,\s*(\S+)\s*$)");
+      std::smatch m;
+      AssertThrow(
+          std::regex_match(text, m, form),
+          ExcMessage("Design: cannot read the parameter <" + trim(text) +
+                     ">: expected `KIND [SELECTION] = INITIAL in LOWER, UPPER`, e.g. `mass at 0.1, 0, 0 = "
+                     "0.01 in 0, 0.05`."));
+      ParameterSpec p;
+      p.text            = trim(text);
+      p.kind            = trim(m[1].str());
+      p.selection       = m[2].str() == "at" ? trim(m[3].str()) : trim(m[2].str() + m[3].str());
+      const auto number = [&](const std::string &v, const std::string &what) {
+        const auto values = parse_number_list(v, "Design parameter <" + p.text + "> " + what);
+        AssertThrow(values.size() == 1, ExcMessage("Design parameter <" + p.text + ">: one " + what + "."));
+        return values[0];
+      };
+      p.initial = number(m[4].str(), "initial value"), p.lower = number(m[5].str(), "lower bound");
+      p.upper = number(m[6].str(), "upper bound");
+      AssertThrow(p.lower <= p.upper,
+                  ExcMessage("Design parameter <" + p.text + ">: the bounds are inverted (" + m[5].str() +
+                             " > " + m[6].str() + ")."));
+      return p;
+    }
+
+    /// The parameters of the specs on the structure's parts.
+    std::vector<std::shared_ptr<DesignParameter>> make_parameters(PeriodicStructure                &s,
+                                                                  const std::vector<ParameterSpec> &specs)
+    {
+      std::vector<std::shared_ptr<DesignParameter>> out;
+      for (const auto &p : specs)
+        {
+          const std::size_t first = out.size();
+          if (p.kind == "mass")
+            {
+              AssertThrow(s.point_dofs,
+                          ExcMessage("Design: this structure has no vertices for point masses."));
+              const auto xyz = parse_number_list(p.selection, "Design parameter <" + p.text + "> point");
+              AssertThrow(xyz.size() == 2 || xyz.size() == 3,
+                          ExcMessage("Design parameter <" + p.text + ">: `mass at X, Y[, Z]`."));
+              const Point<3> point(xyz[0], xyz[1], xyz.size() > 2 ? xyz[2] : 0.0);
+              // A point far from every vertex is a mistake, not a selection: refuse beyond 10 % of
+              // the model's extent (or 1 cm for a point model).
+              double extent = 0;
+              for (Eigen::Index i = 0; i < s.rest.size(); ++i)
+                extent = std::max(extent, std::abs(s.rest[i]));
+              const double distance = s.point_distance(point);
+              AssertThrow(distance <= std::max(0.1 * extent, 1e-2),
+                          ExcMessage("Design parameter <" + p.text + ">: the point lies " +
+                                     std::to_string(distance) +
+                                     " m from the nearest vertex, outside the model."));
+              auto dofs = s.point_dofs(point);
+              dofs.erase(std::remove_if(dofs.begin(), dofs.end(),
+                                        [&](std::size_t d) { return s.model.is_fixed(d); }),
+                         dofs.end());
+              AssertThrow(!dofs.empty(),
+                          ExcMessage("Design parameter <" + p.text + ">: the vertex is clamped."));
+              out.push_back(make_point_mass_parameter("mass_" + std::to_string(out.size()), s.model, dofs,
+                                                      p.initial, p.lower, p.upper, s.gravity));
+            }
+          else if (p.kind == "force amplitude" || p.kind == "force phase")
+            {
+              AssertThrow(!s.forces.empty(),
+                          ExcMessage("Design parameter <" + p.text + ">: no point forces."));
+              std::vector<std::size_t> all(s.forces.size());
+              for (std::size_t i = 0; i < all.size(); ++i)
+                all[i] = i;
+              out.push_back(
+                  p.kind == "force amplitude"
+                      ? make_force_amplitude_parameter("force_amplitude", s.forces, all, p.lower, p.upper)
+                      : make_force_phase_parameter("force_phase", s.forces, all, p.lower, p.upper));
+            }
+          else if (p.kind == "drive amplitude")
+            {
+              AssertThrow(!s.drives.empty(), ExcMessage("Design parameter <" + p.text + ">: no drives."));
+              out.push_back(make_drive_amplitude_parameter("drive_amplitude", s.drives, p.lower, p.upper));
+            }
+          else if (p.kind == "layer modulus")
+            {
+              const auto index = parse_number_list(p.selection, "Design parameter <" + p.text + "> layer");
+              AssertThrow(index.size() == 1 && index[0] >= 0 && index[0] < double(s.layer_terms.size()) &&
+                              index[0] == std::floor(index[0]),
+                          ExcMessage("Design parameter <" + p.text +
+                                     ">: no such material layer (the structure has " +
+                                     std::to_string(s.layer_terms.size()) + ")."));
+              const auto &layer = s.layer_terms[std::size_t(index[0])];
+              AssertThrow(layer.first >= 0,
+                          ExcMessage("Design parameter <" + p.text +
+                                     ">: the layer has no elements, or the model is not a solid."));
+              out.push_back(make_term_modulus_parameter("E_layer_" + std::to_string(std::size_t(index[0])),
+                                                        s.model, std::size_t(layer.first), layer.second,
+                                                        p.lower, p.upper));
+            }
+          else if (p.kind == "element modulus")
+            {
+              AssertThrow(!s.element_moduli.empty(),
+                          ExcMessage("Design parameter <" + p.text +
+                                     ">: a modulus per element needs a plane model."));
+              AssertThrow(p.lower > 0,
+                          ExcMessage("Design parameter <" + p.text +
+                                     ">: the bounds are factors on the modulus and must be positive."));
+              std::vector<std::vector<std::size_t>> groups;
+              for (std::size_t e = 0; e < s.element_moduli.size(); ++e)
+                groups.push_back({e});
+              for (auto &q : make_element_modulus_parameters("E_element", s.model, groups, s.element_moduli,
+                                                             p.lower, p.upper))
+                out.push_back(q);
+            }
+          else
+            AssertThrow(false, ExcMessage("Design parameter <" + p.text + ">: unknown kind <" + p.kind +
+                                          "> (mass at, force amplitude, force phase, drive amplitude, layer "
+                                          "modulus, element modulus)."));
+          if (p.kind != "element modulus")
+            for (std::size_t k = first; k < out.size(); ++k)
+              out[k]->set(p.initial);
+        }
+      return out;
+    }
+
+    /// The target trajectory: a CSV with a header, the first column time over one period, then one
+    /// column per tracked coordinate (the mean is free). Samples must be equally spaced.
+    Eigen::MatrixXd read_target(const std::string &file, const std::size_t coordinates)
+    {
+      std::ifstream in(file);
+      AssertThrow(in, ExcMessage("Design: cannot read the target trajectory <" + file + ">."));
+      std::string                      line;
+      std::vector<std::vector<double>> rows;
+      std::getline(in, line); // header
+      unsigned int number = 1;
+      while (std::getline(in, line))
+        {
+          ++number;
+          if (trim(line).empty())
+            continue;
+          std::vector<double> row;
+          std::stringstream   ss(line);
+          std::string         cell;
+          while (std::getline(ss, cell, ','))
+            {
+              char        *end   = nullptr;
+              const double value = std::strtod(cell.c_str(), &end);
+              AssertThrow(end != cell.c_str() && trim(end).empty() && std::isfinite(value),
+                          ExcMessage("Design: the target trajectory <" + file + "> has a malformed value <" +
+                                     cell + "> in line " + std::to_string(number) + "."));
+              row.push_back(value);
+            }
+          AssertThrow(row.size() == coordinates + 1,
+                      ExcMessage("Design: line " + std::to_string(number) + " of the target trajectory <" +
+                                 file + "> has " + std::to_string(row.size()) + " columns, expected t and " +
+                                 std::to_string(coordinates) + " coordinates."));
+          rows.push_back(row);
+        }
+      Eigen::MatrixXd x(Eigen::Index(coordinates), Eigen::Index(rows.size()));
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        for (std::size_t j = 0; j < coordinates; ++j)
+          x(Eigen::Index(j), Eigen::Index(i)) = rows[i][j + 1];
+      if (rows.size() >= 3)
+        {
+          const double dt = rows[1][0] - rows[0][0];
+          for (std::size_t i = 1; i < rows.size(); ++i)
+            AssertThrow(dt > 0 &&
+                            std::abs(rows[i][0] - rows[i - 1][0] - dt) <= 1e-6 * dt * double(rows.size()),
+                        ExcMessage("Design: the target trajectory <" + file +
+                                   "> needs equally spaced times over one period."));
+        }
+      return x; // too few samples: TrajectoryObjective refuses it with the count it needs
+    }
+
+    /// Writes `text` with every value that names an existing file relative to `directory` made absolute.
+    std::string absolute_paths(const std::string &text, const std::string &directory)
+    {
+      std::stringstream       in(text);
+      std::ostringstream      out;
+      std::string             line;
+      static const std::regex set(R"(^(\s*set\s+[^=]+=\s*)(\S[^#]*?)(\s*(#.*)?)$)");
+      while (std::getline(in, line))
+        {
+          std::smatch m;
+          if (std::regex_match(line, m, set))
+            {
+              const std::filesystem::path value = trim(m[2].str());
+              if (!value.is_absolute() && !value.empty() &&
+                  std::filesystem::is_regular_file(std::filesystem::path(directory) / value))
+                line =
+                    m[1].str() + std::filesystem::absolute(std::filesystem::path(directory) / value).string();
+            }
+          out << line << "\n";
+        }
+      return out.str();
+    }
+  } // namespace
+
+  void DesignStudySettings::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Design");
+    prm.declare_entry("Mode", "off", Patterns::Selection("off|apply|explore|optimize"),
+                      "off; apply: set the parameters' values and analyse that design; explore: first-order "
+                      "predictions z + S dp against re-solved states along the objective's descent direction "
+                      "(sensitivity_sweep.csv); optimize: bound-constrained L-BFGS (NLopt) from the values.");
+    prm.declare_entry(
+        "Parameters", "", Patterns::Anything(),
+        "`;`-separated `KIND [SELECTION] = INITIAL in LOWER, UPPER`: mass at X, Y, Z [kg]; force "
+        "amplitude [-]; force phase [rad]; drive amplitude [-]; layer modulus L [Pa]; element modulus "
+        "(every plane element, bounds as factors) [Pa].");
+    prm.declare_entry("Frequencies", "", Patterns::Anything(),
+                      "Driving frequencies of the objective [rad/s].");
+    prm.declare_entry(
+        "Objective", "amplitude", Patterns::Selection("amplitude|trajectory"),
+        "amplitude: (A - target)^2 of the tracked point (2.4.8); trajectory: the phase-free distance "
+        "to Target trajectory (2.4.6-2.4.7).");
+    prm.declare_entry("Target amplitude", "1", Patterns::Double(0),
+                      "A (2.3.14) aimed at; a large value maximises the amplitude [m].");
+    prm.declare_entry("Amplitude axes", "", Patterns::Anything(),
+                      "Coordinates of the tracked point in A (x, y, z; empty: all).");
+    prm.declare_entry(
+        "Target trajectory", "", Patterns::Anything(),
+        "CSV: header, then t and one column per tracked coordinate, equally spaced over one period "
+        "(the same target at every frequency) [s, m].");
+    prm.declare_entry("Phase offsets", "64", Patterns::Integer(1), "N of the smooth minimum (2.4.7) [-].");
+    prm.declare_entry("Smooth minimum sharpness", "50", Patterns::Double(0),
+                      "alpha times the target's squared size [-].");
+    prm.declare_entry("Change penalty", "0", Patterns::Double(0),
+                      "Weight of sum ((p - p0) / (upper - lower))^2 added to the objective [-].");
+    prm.declare_entry("Maximum evaluations", "200", Patterns::Integer(1),
+                      "Objective evaluations of L-BFGS [-].");
+    prm.declare_entry("Tolerance", "1e-8", Patterns::Double(0),
+                      "Relative change of the objective at the end [-].");
+    prm.declare_entry("Time limit", "0", Patterns::Double(0),
+                      "[s]; 0: none. Stopped by it: partial, best kept.");
+    prm.declare_entry("Exploration steps", "0.4, 0.2, 0.1, 0.05, 0.025", Patterns::Anything(),
+                      "explore: steps along the descent direction, relative to the parameters' ranges [-].");
+    prm.declare_entry(
+        "Initial curve", "true", Patterns::Bool(),
+        "Trace the frequency response of the initial design too (frequency_response_initial.csv).");
+    prm.leave_subsection();
+  }
+
+  void DesignStudySettings::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Design");
+    mode = prm.get("Mode");
+    parameters.clear();
+    for (const auto &p : Utilities::split_string_list(prm.get("Parameters"), ';'))
+      if (!trim(p).empty())
+        parameters.push_back(p);
+    frequencies = parse_number_list(prm.get("Frequencies"), "Design: Frequencies");
+    objective = prm.get("Objective"), target_amplitude = prm.get_double("Target amplitude");
+    axes.clear();
+    for (const auto &a : Utilities::split_string_list(prm.get("Amplitude axes"), ','))
+      {
+        AssertThrow(a == "x" || a == "y" || a == "z",
+                    ExcMessage("Design: Amplitude axes takes x, y and z, not <" + a + ">."));
+        axes.push_back(a == "x" ? 0u : a == "y" ? 1u : 2u);
+      }
+    target_file     = prm.get("Target trajectory");
+    phases          = unsigned(prm.get_integer("Phase offsets"));
+    sharpness       = prm.get_double("Smooth minimum sharpness");
+    change_penalty  = prm.get_double("Change penalty");
+    max_evaluations = unsigned(prm.get_integer("Maximum evaluations"));
+    tolerance = prm.get_double("Tolerance"), time_limit = prm.get_double("Time limit");
+    exploration_steps = parse_number_list(prm.get("Exploration steps"), "Design: Exploration steps");
+    initial_curve     = prm.get_bool("Initial curve");
+    prm.leave_subsection();
+    if (!enabled())
+      return;
+    AssertThrow(!parameters.empty(),
+                ExcMessage("Design: Mode is " + mode + " but no Parameters are declared."));
+    for (const auto &p : parameters)
+      parse_spec(p); // every spec readable before anything runs
+    AssertThrow(!frequencies.empty(), ExcMessage("Design: give the driving Frequencies of the objective."));
+    for (const double w : frequencies)
+      AssertThrow(w > 0, ExcMessage("Design: driving frequencies must be positive."));
+    AssertThrow(objective != "trajectory" || !target_file.empty(),
+                ExcMessage("Design: the trajectory objective needs a Target trajectory file."));
+    if (!target_file.empty())
+      target_file = resolve_input_path(target_file, current_parameter_directory());
+  }
+
+  DesignOutcome run_design_study(RunContext &context, PeriodicStructure &s,
+                                 const HarmonicBalanceSettings &hb_settings,
+                                 const ContinuationSettings    &continuation,
+                                 const DesignStudySettings &settings, const std::string &prm_text,
+                                 const std::string &source_directory)
+  {
+    DesignOutcome              outcome;
+    std::vector<ParameterSpec> specs;
+    for (const auto &p : settings.parameters)
+      specs.push_back(parse_spec(p));
+    auto parameters = make_parameters(s, specs);
+    // The tracked coordinates of the objective.
+    std::vector<std::size_t> tracked;
+    for (std::size_t i = 0; i < s.tracked_dofs.size(); ++i)
+      if (settings.axes.empty() || std::count(settings.axes.begin(), settings.axes.end(), unsigned(i)))
+        tracked.push_back(s.tracked_dofs[i]);
+    AssertThrow(!tracked.empty(),
+                ExcMessage("Design: the Amplitude axes select none of the tracked coordinates."));
+    std::shared_ptr<const DesignObjective> objective;
+    Eigen::MatrixXd                        target;
+    if (settings.objective == "trajectory")
+      {
+        target    = read_target(settings.target_file, tracked.size());
+        objective = std::make_shared<TrajectoryObjective>(tracked, target, hb_settings.n_harmonics,
+                                                          settings.phases, settings.sharpness);
+      }
+    else
+      objective = std::make_shared<AmplitudeObjective>(tracked, settings.target_amplitude);
+
+    HarmonicDesign::Rebuild rebuild = [&]() {
+      return std::make_unique<HarmonicBalance>(s.model, hb_settings, s.forces, s.drives);
+    };
+    std::vector<DesignCase>      cases;
+    std::vector<Eigen::VectorXd> states;
+    for (const double w : settings.frequencies)
+      {
+        const auto      hb = rebuild();
+        Eigen::VectorXd z  = hb->static_coefficients(s.rest);
+        const auto      r  = solve_with_excitation_ramp(*hb, z, w);
+        if (!r.converged)
+          {
+            // Inside a hysteresis band a start from rest may not reach any state: follow the curve
+            // from the scene's start frequency to w instead (the branch connected to it).
+            ContinuationSettings cs = continuation;
+            cs.omega_end = w, cs.tracked_dofs = s.tracked_dofs, cs.stability = StabilityMethod::none;
+            cs.progress                 = {};
+            const FrequencyResponse frc = trace_frequency_response(*hb, hb->static_coefficients(s.rest), cs);
+            AssertThrow(
+                frc.completed && !frc.points.empty(),
+                ExcMessage("Design: no periodic state of the initial design at w = " + std::to_string(w) +
+                           " rad/s (a start from rest: " + r.message + "; the curve from " +
+                           std::to_string(continuation.omega_start) + " rad/s: " + frc.stop_reason + ")."));
+            z = frc.points.back().z;
+          }
+        cases.push_back({w, {objective}});
+        states.push_back(z);
+      }
+    DesignSettings ds;
+    ds.change_penalty = settings.change_penalty;
+    HarmonicDesign design(rebuild, parameters, cases, states, ds);
+    const auto     amplitudes = [&]() {
+      std::vector<double> a;
+      for (std::size_t c = 0; c < cases.size(); ++c)
+        a.push_back(design.balance().amplitude(design.state(c), cases[c].omega, tracked));
+      return a;
+    };
+    const std::vector<Eigen::VectorXd> initial_states    = states;
+    const std::vector<double>          initial_amplitude = amplitudes();
+    const double                       initial_objective = design.objective();
+    context.pcout << "design: " << parameters.size() << " parameters, " << cases.size() << " frequencies, "
+                  << objective->name() << " objective " << initial_objective << std::endl;
+    context.summary.add_number("design_parameters", parameters.size());
+    context.summary.add_number("design_initial_objective", initial_objective);
+
+    std::ostringstream history;
+    history << "iteration,objective,gradient_norm,seconds";
+    for (const auto &p : parameters)
+      history << "," << p->name();
+    history << "\n";
+    const auto history_row = [&](const DesignIterate &it) {
+      history << it.iteration << "," << json_number(it.objective) << "," << json_number(it.gradient_norm)
+              << "," << json_number(it.seconds);
+      for (Eigen::Index k = 0; k < it.parameters.size(); ++k)
+        history << "," << json_number(it.parameters[k]);
+      history << "\n";
+    };
+    if (settings.mode == "optimize")
+      {
+        ProgressReporter     progress("design (L-BFGS evaluations)", settings.max_evaluations, context.comm,
+                                      context.pcout.get_stream());
+        OptimizationSettings os;
+        os.max_iterations = settings.max_evaluations, os.relative_tolerance = settings.tolerance;
+        os.time_limit = settings.time_limit;
+        os.progress   = [&](const DesignIterate &it) {
+          if (it.iteration % 5 == 0)
+            progress.report(it.iteration, "objective " + json_number(it.objective));
+        };
+        const OptimizationResult r = optimize_design(design, os);
+        for (const auto &it : r.history)
+          history_row(it);
+        context.pcout << "design: " << r.evaluations << " evaluations, objective " << initial_objective
+                      << " -> " << r.best.objective << " (" << r.stop_reason << ")" << std::endl;
+        context.summary.add_number("design_evaluations", r.evaluations);
+        context.summary.add_number("design_objective", r.best.objective);
+        context.summary.add_string("design_stop_reason", r.stop_reason);
+        context.summary.add_string("design_optimizer", "NLopt LD_LBFGS (bound-constrained)");
+        context.summary.add_figure("design_gradient_seconds",
+                                   design.gradients > 0 ? design.gradient_seconds / design.gradients : 0.0,
+                                   "s");
+        context.summary.add_number("design_newton_iterations", design.newton_iterations);
+        if (!r.converged)
+          context.partial_reason =
+              "the design optimiser stopped early (" + r.stop_reason + "); the best design is kept";
+      }
+    else
+      {
+        Eigen::VectorXd g;
+        DesignIterate   it;
+        it.objective = design.objective(&g), it.gradient_norm = g.norm(), it.parameters = design.values();
+        history_row(it);
+      }
+    if (settings.mode == "explore")
+      {
+        // Predictions z + S dp along the descent direction -g scaled to the parameters' ranges.
+        Eigen::VectorXd g;
+        design.objective(&g);
+        const Eigen::VectorXd p0 = design.values();
+        Eigen::VectorXd       range(p0.size());
+        for (Eigen::Index k = 0; k < p0.size(); ++k)
+          range[k] = parameters[std::size_t(k)]->upper - parameters[std::size_t(k)]->lower;
+        // Steepest descent in the coordinates u = (p - lower) / range: dp = -range^2 g, of unit
+        // length in u (steps are fractions of the ranges).
+        Eigen::VectorXd direction = -(range.array().square() * g.array()).matrix();
+        AssertThrow(direction.norm() > 0,
+                    ExcMessage("Design: the objective's gradient is zero; nothing to explore."));
+        direction /= (direction.array() / range.array()).matrix().norm();
+        std::vector<Eigen::MatrixXd> S;
+        for (std::size_t c = 0; c < cases.size(); ++c)
+          S.push_back(design.sensitivity(c));
+        const std::vector<Eigen::VectorXd> z0 = {initial_states};
+        std::ostringstream                 sweep;
+        sweep << "step,dp_norm,frequency,prediction_error,motion_size\n";
+        for (const double t : settings.exploration_steps)
+          {
+            Eigen::VectorXd dp = t * direction;
+            for (Eigen::Index k = 0; k < dp.size(); ++k)
+              dp[k] = std::clamp(p0[k] + dp[k], parameters[std::size_t(k)]->lower,
+                                 parameters[std::size_t(k)]->upper) -
+                      p0[k];
+            std::string why;
+            if (!design.update(p0 + dp, &why))
+              {
+                context.pcout << "design: no state at exploration step " << t << " (" << why << ")"
+                              << std::endl;
+                continue;
+              }
+            for (std::size_t c = 0; c < cases.size(); ++c)
+              {
+                const Eigen::VectorXd &z = z0[c];
+                const double size        = z.tail(z.size() - Eigen::Index(design.balance().n_free())).norm();
+                const double err         = (design.state(c) - z - S[c] * dp).norm() / size;
+                sweep << json_number(t) << "," << json_number(dp.norm()) << "," << json_number(cases[c].omega)
+                      << "," << json_number(err) << "," << json_number(size) << "\n";
+              }
+          }
+        AssertThrow(design.update(p0), ExcMessage("Design: the explored design no longer solves."));
+        if (context.is_root())
+          {
+            write_file_atomically(context.output.file("sensitivity_sweep.csv"), sweep.str());
+            run_plot("design.py", {"sweep", context.output.file("sensitivity_sweep.csv"),
+                                   context.output.file("sensitivity_sweep.png")});
+          }
+      }
+    // The design's figures: objective, amplitude gains, Hill stability of each state.
+    const std::vector<double> final_amplitude = amplitudes();
+    std::vector<double>       gains;
+    bool                      unstable = false;
+    for (std::size_t c = 0; c < cases.size(); ++c)
+      {
+        gains.push_back(final_amplitude[c] / std::max(initial_amplitude[c], 1e-300));
+        const HillResult h = hill_stability(design.balance(), design.state(c), cases[c].omega);
+        context.pcout << "design at w = " << cases[c].omega << " rad/s: amplitude " << initial_amplitude[c]
+                      << " -> " << final_amplitude[c] << " (" << gains.back()
+                      << "x), Hill: " << (h.determined ? (h.stable ? "stable" : "UNSTABLE") : "undetermined")
+                      << ", max multiplier " << h.max_multiplier << std::endl;
+        unstable = unstable || (h.determined && !h.stable);
+        context.summary.add_figure("design_max_multiplier_" + std::to_string(c), h.max_multiplier, "1");
+      }
+    context.summary.add_numbers("design_amplitude_initial", initial_amplitude);
+    context.summary.add_numbers("design_amplitude_final", final_amplitude);
+    context.summary.add_numbers("design_amplitude_gain", gains);
+    context.summary.add_bool("design_state_unstable", unstable);
+    if (unstable)
+      context.pcout
+          << "design: WARNING: the design's periodic state is unstable (Hill); it would not be observed"
+          << std::endl;
+
+    if (context.is_root())
+      {
+        // Parameters, trajectories before / after / target, the optimised parameter file.
+        std::ostringstream values;
+        values << "name,initial,final,lower,upper\n";
+        const Eigen::VectorXd p = design.values();
+        for (std::size_t k = 0; k < parameters.size(); ++k)
+          values << parameters[k]->name() << "," << json_number(design.initial_values()[Eigen::Index(k)])
+                 << "," << json_number(p[Eigen::Index(k)]) << "," << json_number(parameters[k]->lower) << ","
+                 << json_number(parameters[k]->upper) << "\n";
+        write_file_atomically(context.output.file("design_parameters.csv"), values.str());
+        write_file_atomically(context.output.file("design_history.csv"), history.str());
+        std::ostringstream traj;
+        traj << "frequency,phase";
+        for (std::size_t j = 0; j < tracked.size(); ++j)
+          traj << ",before_" << j << ",after_" << j << (target.size() ? ",target_" + std::to_string(j) : "");
+        traj << "\n";
+        const unsigned int M = 96;
+        for (std::size_t c = 0; c < cases.size(); ++c)
+          {
+            std::vector<double> t(M);
+            for (unsigned int i = 0; i < M; ++i)
+              t[i] = 2 * pi / cases[c].omega * i / M;
+            const Eigen::MatrixXd xb = design.balance().positions_at(initial_states[c], cases[c].omega, t);
+            const Eigen::MatrixXd xa = design.balance().positions_at(design.state(c), cases[c].omega, t);
+            for (unsigned int i = 0; i < M; ++i)
+              {
+                traj << json_number(cases[c].omega) << "," << json_number(2 * pi * i / M);
+                for (std::size_t j = 0; j < tracked.size(); ++j)
+                  {
+                    traj << "," << json_number(xb(Eigen::Index(tracked[j]), i)) << ","
+                         << json_number(xa(Eigen::Index(tracked[j]), i));
+                    if (target.size())
+                      traj << ","
+                           << json_number(target(Eigen::Index(j), Eigen::Index(i * target.cols() / M)));
+                  }
+                traj << "\n";
+              }
+          }
+        write_file_atomically(context.output.file("design_trajectories.csv"), traj.str());
+        run_plot("design.py", {"history", context.output.file("design_history.csv"),
+                               context.output.file("design_history.png")});
+        run_plot("design.py", {"trajectories", context.output.file("design_trajectories.csv"),
+                               context.output.file("design_trajectories.png")});
+        // optimized.prm: this run's parameters with the design's values applied.
+        std::ostringstream prm;
+        prm << "# The design found by nlmech from " << source_directory
+            << " (every parameter; Design: Mode = apply with the values found).\n"
+            << absolute_paths(prm_text, source_directory) << "\nsubsection Design\n  set Mode = apply\n"
+            << "  set Parameters = ";
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < specs.size(); ++i)
+          {
+            const auto &sp = specs[i];
+            if (sp.kind == "element modulus")
+              {
+                // One parameter per element cannot be one spec: the values go with the mode 'apply'
+                // only as far as the spec can say (the layer moduli); record them in the CSV.
+                prm << (i ? "; " : "") << sp.text;
+                k += s.element_moduli.size();
+                continue;
+              }
+            prm << (i ? "; " : "") << sp.kind << (sp.kind == "mass" ? " at " : " ") << sp.selection << " = "
+                << json_number(p[Eigen::Index(k)]) << " in " << json_number(sp.lower) << ", "
+                << json_number(sp.upper);
+            ++k;
+          }
+        prm << "\nend\n\nsubsection Output\n  set Output directory = " << context.output.file("optimized")
+            << "\nend\n";
+        write_file_atomically(context.output.file("optimized.prm"), prm.str());
+      }
+    outcome.ran         = true;
+    outcome.frequencies = settings.frequencies;
+    for (std::size_t c = 0; c < cases.size(); ++c)
+      outcome.states.push_back(design.state(c));
+    return outcome;
+  }
+} // namespace nlmech
