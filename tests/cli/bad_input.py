@@ -29,6 +29,12 @@ def hbm(entries):
     return f"set Scene type = harmonic-balance\nsubsection Harmonic balance\n{entries}end\n"
 
 
+def design(entries, structure=""):
+    """A small Duffing run (or `structure`) with subsection Design `entries`."""
+    return (hbm("  set Harmonics = 3\n  set Frequency range = 0.5, 1.5\n") + structure +
+            "subsection Design\n  set Mode = optimize\n  set Initial curve = false\n" + entries + "end\n")
+
+
 def sheet(entries):
     return ("set Scene type = biphasic-sheet\nsubsection Sheet\n  set Resolution = 4\nend\n"
             "subsection Time stepping\n  set End time = 0.05\n  set Schemes = SAP\nend\n" + entries)
@@ -107,6 +113,24 @@ def cases(source):
         "hbm-mechanism-missing-joint": (hbm("") + "subsection Oscillator\n  set Model = mechanism\nend\n"
                                         "subsection Mechanism\n  set Joints = 0, 0, 1; 1, 0, 1\n  set Links = 0, 5\n"
                                         "  set Driven joints = 0\nend\n", "A link joins a missing joint"),
+        "hbm-design-unknown-kind": (design("  set Parameters = spring at 0, 0, 0 = 1 in 0, 2\n  set Frequencies = 1\n"),
+                                    "unknown kind <spring>"),
+        "hbm-design-inverted-bounds": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 1, 0.5\n"
+                                              "  set Frequencies = 1\n"), "the bounds are inverted"),
+        "hbm-design-unreadable-parameter": (design("  set Parameters = mass = heavy\n  set Frequencies = 1\n"),
+                                            "cannot read the parameter"),
+        "hbm-design-no-frequencies": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 0, 1\n"),
+                                      "give the driving Frequencies"),
+        "hbm-design-point-outside": (design("  set Parameters = mass at 5, 5, 5 = 0 in 0, 1\n  set Frequencies = 60\n",
+                                            "subsection Oscillator\n  set Model = shell\nend\nsubsection Mesh\n"
+                                            "  set Mesh file = " + os.path.join(source, "meshes", "fork.geo") + "\nend\n"),
+                                     "outside the model"),
+        "hbm-design-malformed-target": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 0, 1\n  set Frequencies = 1\n"
+                                               "  set Objective = trajectory\n  set Target trajectory = target.csv\n"),
+                                        "malformed value <abc>", {"target.csv": "t,x\n0,1\n0.1,abc\n"}),
+        "hbm-design-short-target": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 0, 1\n  set Frequencies = 1\n"
+                                           "  set Objective = trajectory\n  set Target trajectory = target.csv\n"),
+                                    "needs at least 2 N_H + 1", {"target.csv": "t,x\n0,1\n0.1,2\n0.2,1\n"}),
         "hbm-rods-without-polylines": (hbm("") + "subsection Oscillator\n  set Model = rods\nend\n",
                                        "Rods: Polylines are needed"),
         "sheet-compression-limit": (sheet("subsection Strain limits\n  set Limit = 1 - 0.1 * cos(alpha)\nend\n"),

@@ -5,6 +5,7 @@
 
 #include <nlopt.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -14,21 +15,30 @@ namespace nlmech
 {
   OptimizationResult optimize_design(HarmonicDesign &design, const OptimizationSettings &settings)
   {
-    const std::size_t   n = design.n_parameters();
-    std::vector<double> lower(n), upper(n), x(n);
+    const std::size_t n = design.n_parameters();
+    // L-BFGS runs on u = (p - lower) / range in [0, 1]: parameters of different units (kg, Pa,
+    // radians) become comparable, and its first step is a fraction of the box, not of |g|.
+    std::vector<double> lower(n), upper(n), x(n), range(n);
     const auto          p0 = design.values();
     for (std::size_t k = 0; k < n; ++k)
       {
         lower[k] = design.design_parameters()[k]->lower, upper[k] = design.design_parameters()[k]->upper;
-        x[k] = p0[Eigen::Index(k)];
+        range[k] = upper[k] > lower[k] ? upper[k] - lower[k] : 1.0;
+        x[k]     = (p0[Eigen::Index(k)] - lower[k]) / range[k];
       }
+    const auto to_parameters = [&](const std::vector<double> &u) {
+      Eigen::VectorXd p(static_cast<Eigen::Index>(n));
+      for (std::size_t k = 0; k < n; ++k)
+        p[Eigen::Index(k)] = std::clamp(lower[k] + range[k] * u[k], lower[k], upper[k]);
+      return p;
+    };
     OptimizationResult result;
     const auto         started   = std::chrono::steady_clock::now();
     Eigen::VectorXd    last_good = p0;
     double             best_f    = std::numeric_limits<double>::infinity();
 
     auto evaluate = [&](const std::vector<double> &q, std::vector<double> &grad) {
-      Eigen::VectorXd p = Eigen::Map<const Eigen::VectorXd>(q.data(), Eigen::Index(n));
+      const Eigen::VectorXd p = to_parameters(q);
       ++result.evaluations;
       std::string why;
       if (!design.update(p, &why))
@@ -36,21 +46,22 @@ namespace nlmech
           // No periodic state here (beyond a fold the continuation could not cross): a large value
           // with a gradient pointing back to the last design that solved, so the line search
           // steps back.
-          const double big    = 10 * std::abs(std::isfinite(best_f) ? best_f : 1.0) + 1;
-          const double range2 = std::max((Eigen::Map<const Eigen::VectorXd>(upper.data(), Eigen::Index(n)) -
-                                          Eigen::Map<const Eigen::VectorXd>(lower.data(), Eigen::Index(n)))
-                                             .squaredNorm(),
-                                         1e-300);
-          if (!grad.empty())
-            for (std::size_t k = 0; k < n; ++k)
-              grad[k] = 2 * big * (p[Eigen::Index(k)] - last_good[Eigen::Index(k)]) / range2;
-          return big * (1 + (p - last_good).squaredNorm() / range2);
+          const double big = 10 * std::abs(std::isfinite(best_f) ? best_f : 1.0) + 1;
+          double       d2  = 0;
+          for (std::size_t k = 0; k < n; ++k)
+            {
+              const double du = (p[Eigen::Index(k)] - last_good[Eigen::Index(k)]) / range[k];
+              d2 += du * du;
+              if (!grad.empty())
+                grad[k] = 2 * big * du; // in u
+            }
+          return big * (1 + d2);
         }
       last_good = p;
       Eigen::VectorXd g;
       const double    f = design.objective(grad.empty() ? nullptr : &g);
       for (std::size_t k = 0; k < grad.size(); ++k)
-        grad[k] = g[Eigen::Index(k)];
+        grad[k] = g[Eigen::Index(k)] * range[k];
       DesignIterate it;
       it.iteration = result.evaluations, it.objective = f, it.parameters = p;
       it.gradient_norm = g.size() > 0 ? g.norm() : 0.0;
@@ -64,8 +75,8 @@ namespace nlmech
     };
     std::function<double(const std::vector<double> &, std::vector<double> &)> function = evaluate;
     nlopt::opt opt(nlopt::LD_LBFGS, unsigned(n));
-    opt.set_lower_bounds(lower);
-    opt.set_upper_bounds(upper);
+    opt.set_lower_bounds(std::vector<double>(n, 0.0));
+    opt.set_upper_bounds(std::vector<double>(n, 1.0));
     opt.set_min_objective([](const std::vector<double> &q, std::vector<double> &grad,
                              void *data) { return (*static_cast<decltype(function) *>(data))(q, grad); },
                           &function);
