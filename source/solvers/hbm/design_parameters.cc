@@ -75,80 +75,54 @@ namespace nlmech
       double                   current;
     };
 
-    class ForceAmplitude : public DesignParameter
+    /// The point forces' amplitude factor (phase = false) or a phase offset added to them.
+    class ForceParameter : public DesignParameter
     {
     public:
-      ForceAmplitude(std::string name, std::vector<HarmonicForce> &forces, std::vector<std::size_t> which,
-                     double lower, double upper)
+      ForceParameter(std::string name, std::vector<HarmonicForce> &forces, std::vector<std::size_t> which,
+                     const bool phase, double lower, double upper)
           : DesignParameter(std::move(name), lower, upper)
           , forces(forces)
           , which(std::move(which))
+          , phase(phase)
+          , current(phase ? 0.0 : 1.0)
       {
         for (const std::size_t i : this->which)
           {
             AssertThrow(i < forces.size(), dealii::ExcMessage("Design: no such point force."));
-            base.push_back(forces[i].amplitude);
+            base.push_back({forces[i].amplitude, forces[i].phase});
           }
       }
-      double value() const override { return factor; }
+      double value() const override { return current; }
       void   set(const double p) override
       {
-        factor = p;
+        current = p;
         for (std::size_t k = 0; k < which.size(); ++k)
-          forces[which[k]].amplitude = p * base[k];
+          if (phase)
+            forces[which[k]].phase = base[k].second + p;
+          else
+            forces[which[k]].amplitude = p * base[k].first;
       }
       bool changes_force() const override { return true; }
       void add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &, const Eigen::VectorXd &,
                             const double theta, const double, Eigen::VectorXd &df) const override
       {
+        // f = s a cos(theta + phi): d/d(factor) = s a_0 cos(...), d/d(offset) = -s a sin(...).
         for (std::size_t k = 0; k < which.size(); ++k)
-          df[Eigen::Index(forces[which[k]].dof)] +=
-              hb.excitation_scale() * base[k] * std::cos(theta + forces[which[k]].phase);
-      }
-
-    private:
-      std::vector<HarmonicForce> &forces;
-      std::vector<std::size_t>    which;
-      std::vector<double>         base;
-      double                      factor = 1;
-    };
-
-    class ForcePhase : public DesignParameter
-    {
-    public:
-      ForcePhase(std::string name, std::vector<HarmonicForce> &forces, std::vector<std::size_t> which,
-                 double lower, double upper)
-          : DesignParameter(std::move(name), lower, upper)
-          , forces(forces)
-          , which(std::move(which))
-      {
-        for (const std::size_t i : this->which)
           {
-            AssertThrow(i < forces.size(), dealii::ExcMessage("Design: no such point force."));
-            base.push_back(forces[i].phase);
+            const HarmonicForce &f = forces[which[k]];
+            const double         a = phase ? f.amplitude : base[k].first;
+            df[Eigen::Index(f.dof)] +=
+                hb.excitation_scale() * a * (phase ? -std::sin(theta + f.phase) : std::cos(theta + f.phase));
           }
       }
-      double value() const override { return offset; }
-      void   set(const double p) override
-      {
-        offset = p;
-        for (std::size_t k = 0; k < which.size(); ++k)
-          forces[which[k]].phase = base[k] + p;
-      }
-      bool changes_force() const override { return true; }
-      void add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &, const Eigen::VectorXd &,
-                            const double theta, const double, Eigen::VectorXd &df) const override
-      {
-        for (const std::size_t i : which)
-          df[Eigen::Index(forces[i].dof)] -=
-              hb.excitation_scale() * forces[i].amplitude * std::sin(theta + forces[i].phase);
-      }
 
     private:
-      std::vector<HarmonicForce> &forces;
-      std::vector<std::size_t>    which;
-      std::vector<double>         base;
-      double                      offset = 0;
+      std::vector<HarmonicForce>            &forces;
+      std::vector<std::size_t>               which;
+      std::vector<std::pair<double, double>> base; // amplitude, phase as declared
+      bool                                   phase;
+      double                                 current;
     };
 
     class DriveAmplitude : public DesignParameter
@@ -290,7 +264,7 @@ namespace nlmech
                                                                   std::vector<std::size_t>    which,
                                                                   const double lower, const double upper)
   {
-    return std::make_shared<ForceAmplitude>(std::move(name), forces, std::move(which), lower, upper);
+    return std::make_shared<ForceParameter>(std::move(name), forces, std::move(which), false, lower, upper);
   }
 
   std::shared_ptr<DesignParameter> make_force_phase_parameter(std::string                 name,
@@ -298,7 +272,7 @@ namespace nlmech
                                                               std::vector<std::size_t>    which,
                                                               const double lower, const double upper)
   {
-    return std::make_shared<ForcePhase>(std::move(name), forces, std::move(which), lower, upper);
+    return std::make_shared<ForceParameter>(std::move(name), forces, std::move(which), true, lower, upper);
   }
 
   std::shared_ptr<DesignParameter> make_drive_amplitude_parameter(std::string                 name,
