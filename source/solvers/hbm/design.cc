@@ -76,6 +76,39 @@ namespace nlmech
     return dh;
   }
 
+  Eigen::VectorXd directional_parameter_derivative(
+      const HarmonicBalance &hb, const std::vector<std::shared_ptr<DesignParameter>> &parameters,
+      const Eigen::VectorXd &direction, const Eigen::VectorXd &z, const double omega)
+  {
+    AssertThrow(direction.size() == Eigen::Index(parameters.size()),
+                dealii::ExcMessage("Design: a direction of the wrong size."));
+    Eigen::VectorXd dm       = Eigen::VectorXd::Zero(Eigen::Index(hb.model().n_unknowns()));
+    bool            any_mass = false, any_force = false;
+    for (std::size_t k = 0; k < parameters.size(); ++k)
+      {
+        const double d = direction[Eigen::Index(k)];
+        if (d == 0)
+          continue;
+        const Eigen::VectorXd m = parameters[k]->mass_change(hb.model().n_unknowns());
+        if (m.size() > 0)
+          dm += d * m, any_mass = true;
+        any_force = any_force || parameters[k]->changes_force();
+      }
+    Eigen::VectorXd dh = Eigen::VectorXd::Zero(z.size());
+    if (any_mass)
+      dh += hb.mass_residual(z, omega, free_part(hb, dm));
+    if (any_force)
+      {
+        const Eigen::MatrixXd x = hb.sample_positions(z), v = hb.sample_velocities(z, omega);
+        Eigen::MatrixXd       f = Eigen::MatrixXd::Zero(Eigen::Index(hb.n_free()), hb.n_samples());
+        for (std::size_t k = 0; k < parameters.size(); ++k)
+          if (direction[Eigen::Index(k)] != 0 && parameters[k]->changes_force())
+            f += direction[Eigen::Index(k)] * force_change_samples(hb, *parameters[k], x, v, omega);
+        dh -= hb.coefficients_of_samples(f);
+      }
+    return dh;
+  }
+
   Eigen::VectorXd adjoint_parameter_products(const HarmonicBalance                               &hb,
                                              const std::vector<std::shared_ptr<DesignParameter>> &parameters,
                                              const Eigen::VectorXd &z, const double omega,
@@ -244,7 +277,16 @@ namespace nlmech
 
   bool HarmonicDesign::solve_all(std::string *why)
   {
-    hb = rebuild();
+    try
+      {
+        hb = rebuild();
+      }
+    catch (const std::exception &e)
+      {
+        if (why)
+          *why = std::string("the structure cannot be built with these parameters (") + e.what() + ")";
+        return false;
+      }
     for (std::size_t c = 0; c < cases.size(); ++c)
       {
         Eigen::VectorXd           z  = states[c];
@@ -263,36 +305,52 @@ namespace nlmech
     return true;
   }
 
+  void HarmonicDesign::apply(const Eigen::VectorXd &p)
+  {
+    for (std::size_t k = 0; k < parameters.size(); ++k)
+      parameters[k]->set(p[Eigen::Index(k)]);
+  }
+
   bool HarmonicDesign::update(const Eigen::VectorXd &p, std::string *why)
   {
     AssertThrow(p.size() == Eigen::Index(parameters.size()) && p.allFinite(),
                 dealii::ExcMessage("Design: parameter vector of the wrong size or not finite."));
     const Eigen::VectorXd              last        = values();
     const std::vector<Eigen::VectorXd> last_states = states;
-    auto                               apply       = [&](const Eigen::VectorXd &q) {
-      for (std::size_t k = 0; k < parameters.size(); ++k)
-        parameters[k]->set(q[Eigen::Index(k)]);
-    };
     apply(p);
     if (solve_all(why))
       return true;
-    // Continuation in the parameters: from the last solved design towards p in steps that halve
-    // on failure and grow on success, each re-solved from the previous step's state.
-    states      = last_states;
-    double done = 0, step = 0.5;
-    for (unsigned int failures = 0; failures <= settings.continuation_halvings;)
+    // A fold of some state over the parameters lies between: follow each case's solution curve
+    // from the last solved design (states, parameters) to p.
+    states = last_states;
+    apply(last);
+    return continue_to(p, why);
+  }
+
+  bool HarmonicDesign::continue_to(const Eigen::VectorXd &p, std::string *why)
+  {
+    AssertThrow(p.size() == Eigen::Index(parameters.size()) && p.allFinite(),
+                dealii::ExcMessage("Design: parameter vector of the wrong size or not finite."));
+    const Eigen::VectorXd              last        = values();
+    const std::vector<Eigen::VectorXd> last_states = states;
+    ++continued_updates;
+    bool ok = true;
+    for (std::size_t c = 0; c < cases.size() && ok; ++c)
+      try
+        {
+          ok = continue_case(c, last, p, why);
+        }
+      catch (const std::exception &e)
+        {
+          ok = false;
+          if (why)
+            *why = std::string("the parameter continuation failed (") + e.what() + ")";
+        }
+    if (ok)
       {
-        const double to   = std::min(1.0, done + step);
-        const auto   kept = states;
-        apply(last + to * (p - last));
-        if (solve_all(why))
-          {
-            done = to, step = std::min(2 * step, 1 - done);
-            if (done >= 1)
-              return true;
-          }
-        else
-          states = kept, step *= 0.5, ++failures;
+        apply(p);
+        hb = rebuild();
+        return true;
       }
     ++failed_updates;
     apply(last);

@@ -284,3 +284,42 @@ TEST(HarmonicDesign, RejectsInvertedBoundsAndBadTargets)
   c.objectives.push_back(std::make_shared<AmplitudeObjective>(std::vector<std::size_t>{1}, 1.0));
   EXPECT_THROW(HarmonicDesign(s->rebuild(), p, {c}, {Eigen::VectorXd::Zero(11)}), std::exception);
 }
+
+TEST(HarmonicDesign, ParameterContinuationFollowsTheStateAroundFolds)
+{
+  // The forced hardening Duffing at w = 2.2 beyond the fold of its curve: the small-amplitude state
+  // of F = 0.3. Raised to F = 3.6 at fixed w, that branch ends at a fold (the jump up); the state
+  // over F is an S: forwards to the fold, back along the unstable middle branch to the other fold,
+  // forwards on the large branch. The parameter continuation must pass both folds and end on the
+  // large-amplitude state at F = 3.6, which the frequency-response curve of F = 3.6 traced from
+  // w = 0.5 (a second method) reaches at w = 2.2 too.
+  auto                                          s     = duffing(1.0);
+  const double                                  omega = 2.2;
+  std::vector<std::shared_ptr<DesignParameter>> p     = {
+          make_force_amplitude_parameter("force", s->forces, {0}, 0.1, 20.0)};
+  DesignCase c;
+  c.omega = omega;
+  c.objectives.push_back(std::make_shared<AmplitudeObjective>(std::vector<std::size_t>{1}, 100.0));
+  HarmonicDesign design(s->rebuild(), p, {c}, {s->solved(omega)});
+  const double   small = design.balance().amplitude(design.state(0), omega, {1});
+  std::string    why;
+  ASSERT_TRUE(design.continue_to(Eigen::VectorXd::Constant(1, 12.0), &why)) << why;
+  const double A = design.balance().amplitude(design.state(0), omega, {1});
+  std::printf("continuation in F: amplitude %.6f -> %.10f, %u steps, %u folds\n", small, A,
+              design.continuation_steps, design.continuation_folds);
+  EXPECT_EQ(design.continuation_folds, 2u);
+  EXPECT_NEAR(design.values()[0], 12.0, 1e-14);
+  const Eigen::VectorXd h = design.balance().residual(design.state(0), omega);
+  EXPECT_LT(h.lpNorm<Eigen::Infinity>(), 1e-9 * 3.6);
+
+  ContinuationSettings cs;
+  cs.omega_start = 0.5, cs.omega_end = omega, cs.tracked_dofs = {1}, cs.stability = StabilityMethod::none;
+  cs.relative_tolerance       = 1e-12;
+  const HarmonicBalance  &hb  = design.balance();
+  const FrequencyResponse frc = trace_frequency_response(hb, hb.static_coefficients(s->rest), cs);
+  ASSERT_TRUE(frc.completed);
+  const double reference = frc.points.back().amplitude;
+  std::printf("  the frequency-response curve of F = 3.6 at w = 2.2: %.10f\n", reference);
+  EXPECT_NEAR(A, reference, 1e-7 * reference);
+  EXPECT_GT(A, 20 * small);
+}

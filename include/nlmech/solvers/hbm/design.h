@@ -56,6 +56,12 @@ namespace nlmech
   Eigen::VectorXd parameter_derivative(const HarmonicBalance &hb, const DesignParameter &p,
                                        const Eigen::VectorXd &z, double omega);
 
+  /// dh/dp d = sum_k d_k dh/dp_k for a direction d in parameter space, from one sampling of the state.
+  Eigen::VectorXd
+  directional_parameter_derivative(const HarmonicBalance                               &hb,
+                                   const std::vector<std::shared_ptr<DesignParameter>> &parameters,
+                                   const Eigen::VectorXd &direction, const Eigen::VectorXd &z, double omega);
+
   /// lambda^T dh/dp for every parameter from one sampling of the state: the adjoint's weights on
   /// the sampled forces (HarmonicBalance::adjoint_sample_weights) against each parameter's force
   /// change, and lambda against the mass part. No column of dh/dp is formed.
@@ -127,9 +133,9 @@ namespace nlmech
     PeriodicSolveSettings solve;
     /// Weight of the penalty sum_k ((p_k - p0_k) / (upper_k - lower_k))^2 on the parameter change.
     double change_penalty = 0;
-    /// Parameter continuation when a re-solve from the last state fails: at most this many halvings
-    /// of the step from the last solved parameters.
-    unsigned int continuation_halvings = 6;
+    /// Parameter continuation when a re-solve from the last state fails: pseudo-arclength steps
+    /// (at most this many) along the segment from the last solved parameters to the new ones.
+    unsigned int continuation_steps = 200;
   };
 
   /// The design problem: parameters, cases and their periodic states. `rebuild` makes the
@@ -152,11 +158,15 @@ namespace nlmech
     const Eigen::VectorXd                               &state(std::size_t c) const { return states[c]; }
     const HarmonicBalance                               &balance() const { return *hb; }
 
-    /// Sets the parameters and re-solves every case from its last state; where that fails, walks
-    /// from the last solved parameters in steps that halve until each solves (continuation in
-    /// the parameters, across a fold). False, with the parameters and states of the last solved
-    /// design restored and `why` set, when no step succeeds.
+    /// Sets the parameters and re-solves every case from its last state; where that fails (a fold
+    /// of the state over the parameters lies between), follows the solution curve of each case
+    /// over the segment from the last solved parameters by pseudo-arclength continuation, around
+    /// the folds, to the new ones. False, with the parameters and states of the last solved design
+    /// restored and `why` set, when the curve cannot be followed there.
     bool update(const Eigen::VectorXd &p, std::string *why = nullptr);
+    /// The parameter continuation of update alone (no direct re-solve first): every case's state
+    /// followed from the current design to p. Same result contract as update.
+    bool continue_to(const Eigen::VectorXd &p, std::string *why = nullptr);
 
     /// The objective at the current design: the cases' objectives plus the change penalty, with its
     /// gradient by the adjoint (one transposed solve per case).
@@ -164,12 +174,21 @@ namespace nlmech
     /// S = dz/dp of case c (n_z x n_p), one solve per parameter with one factorisation.
     Eigen::MatrixXd sensitivity(std::size_t c);
 
-    /// Counters for the benchmark: HBM residual solves (Newton iterations) and gradients.
+    /// Counters for the benchmark: HBM residual solves (Newton iterations) and gradients;
+    /// updates that needed the parameter continuation, its steps, and updates that failed.
     unsigned int newton_iterations = 0, gradients = 0, failed_updates = 0;
+    unsigned int continued_updates = 0, continuation_steps = 0, continuation_folds = 0;
     double       gradient_seconds = 0, solve_seconds = 0;
 
   private:
     bool solve_all(std::string *why);
+    /// Sets the parameters to p (no solve).
+    void apply(const Eigen::VectorXd &p);
+    /// Case c from its state at parameters `from` (solved) to `to` by pseudo-arclength continuation
+    /// in t along p(t) = from + t (to - from) (design_continuation.cc); the parameters are left at
+    /// `to` and states[c] set on success.
+    bool continue_case(std::size_t c, const Eigen::VectorXd &from, const Eigen::VectorXd &to,
+                       std::string *why);
 
     Rebuild                                       rebuild;
     std::vector<std::shared_ptr<DesignParameter>> parameters;
