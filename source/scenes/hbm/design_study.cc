@@ -12,6 +12,7 @@
 #include <nlmech/solvers/hbm/design_parameters.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -66,6 +67,16 @@ namespace nlmech
       return p;
     }
 
+    /// The largest |coordinate| of the rest shape: a point farther than 10 % of it from every
+    /// vertex is outside the model.
+    double model_extent(const PeriodicStructure &s)
+    {
+      double extent = 0;
+      for (Eigen::Index i = 0; i < s.rest.size(); ++i)
+        extent = std::max(extent, std::abs(s.rest[i]));
+      return extent;
+    }
+
     /// The parameters of the specs on the structure's parts.
     std::vector<std::shared_ptr<DesignParameter>> make_parameters(PeriodicStructure                &s,
                                                                   const std::vector<ParameterSpec> &specs)
@@ -84,11 +95,8 @@ namespace nlmech
               const Point<3> point(xyz[0], xyz[1], xyz.size() > 2 ? xyz[2] : 0.0);
               // A point far from every vertex is a mistake, not a selection: refuse beyond 10 % of
               // the model's extent (or 1 cm for a point model).
-              double extent = 0;
-              for (Eigen::Index i = 0; i < s.rest.size(); ++i)
-                extent = std::max(extent, std::abs(s.rest[i]));
               const double distance = s.point_distance(point);
-              AssertThrow(distance <= std::max(0.1 * extent, 1e-2),
+              AssertThrow(distance <= std::max(0.1 * model_extent(s), 1e-2),
                           ExcMessage("Design parameter <" + p.text + ">: the point lies " +
                                      std::to_string(distance) +
                                      " m from the nearest vertex, outside the model."));
@@ -255,10 +263,14 @@ namespace nlmech
                       "A (2.3.14) aimed at; a large value maximises the amplitude [m].");
     prm.declare_entry("Amplitude axes", "", Patterns::Anything(),
                       "Coordinates of the tracked point in A (x, y, z; empty: all).");
+    prm.declare_entry("Objective points", "", Patterns::Anything(),
+                      "`;`-separated points `X, Y[, Z]` whose motion the objective follows (vertices or "
+                      "joints nearest to them); empty: the scene's tracked point. Amplitude: the sum of "
+                      "one objective per point; trajectory: one target over all their coordinates [m].");
     prm.declare_entry(
         "Target trajectory", "", Patterns::Anything(),
-        "CSV: header, then t and one column per tracked coordinate, equally spaced over one period "
-        "(the same target at every frequency) [s, m].");
+        "CSV: header, then t and one column per objective coordinate (per point, its Amplitude axes "
+        "or all), equally spaced over one period (the same target at every frequency) [s, m].");
     prm.declare_entry("Phase offsets", "64", Patterns::Integer(1), "N of the smooth minimum (2.4.7) [-].");
     prm.declare_entry("Smooth minimum sharpness", "50", Patterns::Double(0),
                       "alpha times the target's squared size [-].");
@@ -295,6 +307,10 @@ namespace nlmech
                     ExcMessage("Design: Amplitude axes takes x, y and z, not <" + a + ">."));
         axes.push_back(a == "x" ? 0u : a == "y" ? 1u : 2u);
       }
+    objective_points.clear();
+    for (const auto &p : Utilities::split_string_list(prm.get("Objective points"), ';'))
+      if (!trim(p).empty())
+        objective_points.push_back(p);
     target_file     = prm.get("Target trajectory");
     phases          = unsigned(prm.get_integer("Phase offsets"));
     sharpness       = prm.get_double("Smooth minimum sharpness");
@@ -330,23 +346,51 @@ namespace nlmech
     for (const auto &p : settings.parameters)
       specs.push_back(parse_spec(p));
     auto parameters = make_parameters(s, specs);
-    // The tracked coordinates of the objective.
+    // The coordinates of the objective: per point (the scene's tracked one, or those listed) its
+    // Amplitude axes, free ones only.
+    std::vector<std::vector<std::size_t>> point_coordinates;
+    const auto                            select = [&](const std::vector<std::size_t> &dofs) {
+      std::vector<std::size_t> out;
+      for (std::size_t i = 0; i < dofs.size(); ++i)
+        if ((settings.axes.empty() || std::count(settings.axes.begin(), settings.axes.end(), unsigned(i))) &&
+            !s.model.is_fixed(dofs[i]))
+          out.push_back(dofs[i]);
+      AssertThrow(
+                                     !out.empty(),
+                                     ExcMessage("Design: the Amplitude axes select none of a tracked point's free coordinates."));
+      return out;
+    };
+    if (settings.objective_points.empty())
+      point_coordinates.push_back(select(s.tracked_dofs));
+    else
+      for (const auto &text : settings.objective_points)
+        {
+          const auto xyz = parse_number_list(text, "Design: Objective points");
+          AssertThrow(
+              xyz.size() == 2 || xyz.size() == 3,
+              ExcMessage("Design: Objective points takes `X, Y[, Z]` per point, not <" + text + ">."));
+          const Point<3> point(xyz[0], xyz[1], xyz.size() > 2 ? xyz[2] : 0.0);
+          AssertThrow(s.point_distance(point) <= std::max(0.1 * model_extent(s), 1e-2),
+                      ExcMessage("Design: the objective point <" + text + "> lies " +
+                                 std::to_string(s.point_distance(point)) +
+                                 " m from the nearest vertex, outside the model."));
+          point_coordinates.push_back(select(s.point_dofs(point)));
+        }
     std::vector<std::size_t> tracked;
-    for (std::size_t i = 0; i < s.tracked_dofs.size(); ++i)
-      if (settings.axes.empty() || std::count(settings.axes.begin(), settings.axes.end(), unsigned(i)))
-        tracked.push_back(s.tracked_dofs[i]);
-    AssertThrow(!tracked.empty(),
-                ExcMessage("Design: the Amplitude axes select none of the tracked coordinates."));
-    std::shared_ptr<const DesignObjective> objective;
-    Eigen::MatrixXd                        target;
+    for (const auto &c : point_coordinates)
+      tracked.insert(tracked.end(), c.begin(), c.end());
+    std::vector<std::shared_ptr<const DesignObjective>> objectives;
+    std::string                                         objective_name = settings.objective;
+    Eigen::MatrixXd                                     target;
     if (settings.objective == "trajectory")
       {
-        target    = read_target(settings.target_file, tracked.size());
-        objective = std::make_shared<TrajectoryObjective>(tracked, target, hb_settings.n_harmonics,
-                                                          settings.phases, settings.sharpness);
+        target = read_target(settings.target_file, tracked.size());
+        objectives.push_back(std::make_shared<TrajectoryObjective>(tracked, target, hb_settings.n_harmonics,
+                                                                   settings.phases, settings.sharpness));
       }
     else
-      objective = std::make_shared<AmplitudeObjective>(tracked, settings.target_amplitude);
+      for (const auto &c : point_coordinates)
+        objectives.push_back(std::make_shared<AmplitudeObjective>(c, settings.target_amplitude));
 
     HarmonicDesign::Rebuild rebuild = [&]() {
       return std::make_unique<HarmonicBalance>(s.model, hb_settings, s.forces, s.drives);
@@ -373,7 +417,7 @@ namespace nlmech
                            std::to_string(continuation.omega_start) + " rad/s: " + frc.stop_reason + ")."));
             z = frc.points.back().z;
           }
-        cases.push_back({w, {objective}});
+        cases.push_back({w, objectives});
         states.push_back(z);
       }
     DesignSettings ds;
@@ -382,14 +426,15 @@ namespace nlmech
     const auto     amplitudes = [&]() {
       std::vector<double> a;
       for (std::size_t c = 0; c < cases.size(); ++c)
-        a.push_back(design.balance().amplitude(design.state(c), cases[c].omega, tracked));
+        for (const auto &coordinates : point_coordinates)
+          a.push_back(design.balance().amplitude(design.state(c), cases[c].omega, coordinates));
       return a;
     };
     const std::vector<Eigen::VectorXd> initial_states    = states;
     const std::vector<double>          initial_amplitude = amplitudes();
     const double                       initial_objective = design.objective();
     context.pcout << "design: " << parameters.size() << " parameters, " << cases.size() << " frequencies, "
-                  << objective->name() << " objective " << initial_objective << std::endl;
+                  << objective_name << " objective " << initial_objective << std::endl;
     context.summary.add_number("design_parameters", parameters.size());
     context.summary.add_number("design_initial_objective", initial_objective);
 
@@ -416,7 +461,11 @@ namespace nlmech
           if (it.iteration % 5 == 0)
             progress.report(it.iteration, "objective " + json_number(it.objective));
         };
-        const OptimizationResult r = optimize_design(design, os);
+        const auto               t0 = std::chrono::steady_clock::now();
+        const OptimizationResult r  = optimize_design(design, os);
+        context.summary.add_figure(
+            "design_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+            "s");
         for (const auto &it : r.history)
           history_row(it);
         context.pcout << "design: " << r.evaluations << " evaluations, objective " << initial_objective
@@ -429,6 +478,21 @@ namespace nlmech
                                    design.gradients > 0 ? design.gradient_seconds / design.gradients : 0.0,
                                    "s");
         context.summary.add_number("design_newton_iterations", design.newton_iterations);
+        // One gradient against one Newton iteration of the periodic solve (residual, Jacobian,
+        // factorisation and solve): the adjoint's cost does not grow with the parameters.
+        const double newton =
+            design.newton_iterations > 0 ? design.solve_seconds / design.newton_iterations : 0.0;
+        context.summary.add_figure("design_newton_iteration_seconds", newton, "s");
+        context.summary.add_figure(
+            "design_gradient_over_newton_iteration",
+            newton > 0 && design.gradients > 0 ? design.gradient_seconds / design.gradients / newton : 0.0,
+            "1");
+        context.summary.add_number("design_gradients", design.gradients);
+        context.summary.add_number("design_continued_updates", design.continued_updates);
+        context.summary.add_number("design_continuation_folds", design.continuation_folds);
+        context.summary.add_number("design_failed_updates", design.failed_updates);
+        if (design.failed_updates > 0)
+          context.summary.add_string("design_last_failed_update", design.last_failure);
         if (!r.converged)
           context.partial_reason =
               "the design optimiser stopped early (" + r.stop_reason + "); the best design is kept";

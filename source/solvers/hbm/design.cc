@@ -353,6 +353,7 @@ namespace nlmech
         return true;
       }
     ++failed_updates;
+    last_failure = why ? *why : "";
     apply(last);
     states = last_states;
     hb     = rebuild();

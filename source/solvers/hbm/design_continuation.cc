@@ -76,7 +76,7 @@ namespace nlmech
       const double          tp = from_point.t + step * from_point.tt;
       next.z = zp, next.t = tp;
       double last = std::numeric_limits<double>::infinity();
-      for (iterations = 0; iterations < 12; ++iterations)
+      for (iterations = 0; iterations < 8; ++iterations)
         {
           if (next.t > 1 + 1e-3)
             return false;
@@ -144,7 +144,7 @@ namespace nlmech
             !tangent(next, wz * current.tz, current.tt) || !smooth())
           {
             ds *= 0.5;
-            if (ds < 1e-6)
+            if (ds < 1e-3) // no progress: a fold the parameters cannot pass, or no state at all
               break;
             continue;
           }

@@ -37,7 +37,15 @@ namespace nlmech
     Eigen::VectorXd    last_good = p0;
     double             best_f    = std::numeric_limits<double>::infinity();
 
+    bool at_limit = false;
     auto evaluate = [&](const std::vector<double> &q, std::vector<double> &grad) {
+      // NLopt's L-BFGS checks maxeval only between its iterations (its line search may overrun):
+      // the limit is kept here, exactly.
+      if (result.evaluations >= settings.max_iterations)
+        {
+          at_limit = true;
+          throw nlopt::forced_stop();
+        }
       const Eigen::VectorXd p = to_parameters(q);
       ++result.evaluations;
       std::string why;
@@ -96,6 +104,10 @@ namespace nlmech
                                     ? "the parameters changed by less than their tolerance"
                                     : "converged";
       }
+    catch (const nlopt::forced_stop &)
+      {
+        result.stop_reason = "the largest number of evaluations was reached";
+      }
     catch (const nlopt::roundoff_limited &)
       {
         // NLopt's L-BFGS ends this way when its line search cannot improve the objective at
@@ -105,7 +117,9 @@ namespace nlmech
       }
     catch (const std::exception &e)
       {
-        result.stop_reason = std::string("the optimiser stopped: ") + e.what();
+        // After a forced stop at the evaluation limit NLopt's L-BFGS may report a generic failure.
+        result.stop_reason = at_limit ? "the largest number of evaluations was reached"
+                                      : std::string("the optimiser stopped: ") + e.what();
       }
     AssertThrow(!result.history.empty(),
                 dealii::ExcMessage("Design: the optimiser evaluated nothing (" + result.stop_reason + ")."));

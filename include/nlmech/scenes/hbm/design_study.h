@@ -36,13 +36,15 @@ namespace nlmech
     std::string               objective        = "amplitude";
     double                    target_amplitude = 1;
     std::vector<unsigned int> axes; // of the tracked point; empty: all
-    std::string               target_file;
-    unsigned int              phases    = 64;
-    double                    sharpness = 50, change_penalty = 0;
-    unsigned int              max_evaluations = 200;
-    double                    tolerance = 1e-8, time_limit = 0;
-    std::vector<double>       exploration_steps;
-    bool                      initial_curve = true;
+    /// The points the objective follows (empty: the scene's tracked point), "x, y[, z]" each.
+    std::vector<std::string> objective_points;
+    std::string              target_file;
+    unsigned int             phases    = 64;
+    double                   sharpness = 50, change_penalty = 0;
+    unsigned int             max_evaluations = 200;
+    double                   tolerance = 1e-8, time_limit = 0;
+    std::vector<double>      exploration_steps;
+    bool                     initial_curve = true;
 
     static void declare_parameters(dealii::ParameterHandler &prm);
     void        parse_parameters(dealii::ParameterHandler &prm);

@@ -178,6 +178,7 @@ namespace nlmech
     /// updates that needed the parameter continuation, its steps, and updates that failed.
     unsigned int newton_iterations = 0, gradients = 0, failed_updates = 0;
     unsigned int continued_updates = 0, continuation_steps = 0, continuation_folds = 0;
+    std::string  last_failure; // why the last failed update failed
     double       gradient_seconds = 0, solve_seconds = 0;
 
   private:
