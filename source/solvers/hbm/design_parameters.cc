@@ -24,6 +24,31 @@ namespace nlmech
       model = std::move(rebuilt);
     }
 
+    /// The weight m g of an added point mass as an energy term of the model (-m g . x), m shared
+    /// with the parameter that sets it: the structure's own gravity term holds only its masses.
+    class AddedWeight : public EnergyTerm
+    {
+    public:
+      AddedWeight(Eigen::VectorXd weight_per_kg, std::shared_ptr<const double> mass)
+          : weight(std::move(weight_per_kg))
+          , mass(std::move(mass))
+      {
+      }
+      std::string name() const override { return "added weight"; }
+      double      value(const Eigen::VectorXd &x) const override { return -*mass * weight.dot(x); }
+      void add_gradient(const Eigen::VectorXd &, Eigen::VectorXd &g) const override { g -= *mass * weight; }
+      void add_hessian(const Eigen::VectorXd &, Triplets &) const override {}
+      bool has_series() const override { return true; }
+      void add_gradient_series_coefficient(const std::vector<Eigen::VectorXd> &, unsigned int,
+                                           Eigen::VectorXd &) const override
+      {
+      }
+
+    private:
+      Eigen::VectorXd               weight;
+      std::shared_ptr<const double> mass;
+    };
+
     class PointMass : public DesignParameter
     {
     public:
@@ -42,12 +67,20 @@ namespace nlmech
                         dealii::ExcMessage("Design: a point mass on a missing unknown."));
             base.push_back(model.lumped_mass()[Eigen::Index(d)]);
           }
+        if (this->gravity.size() > 0)
+          {
+            // Its weight: g on the listed unknowns, as a term of the model the parameter changes.
+            Eigen::VectorXd w = Eigen::VectorXd::Zero(this->gravity.size());
+            for (const std::size_t d : this->dofs)
+              w[Eigen::Index(d)] = this->gravity[Eigen::Index(d)];
+            model.add_term(std::make_shared<AddedWeight>(w, weight_mass));
+          }
         set(initial);
       }
       double value() const override { return current; }
       void   set(const double m) override
       {
-        current = m;
+        current = m, *weight_mass = m;
         for (std::size_t i = 0; i < dofs.size(); ++i)
           model.lumped_mass()[Eigen::Index(dofs[i])] = base[i] + m;
       }
@@ -73,6 +106,7 @@ namespace nlmech
       Eigen::VectorXd          gravity;
       std::vector<double>      base;
       double                   current;
+      std::shared_ptr<double>  weight_mass = std::make_shared<double>(0.0);
     };
 
     /// The point forces' amplitude factor (phase = false) or a phase offset added to them.

@@ -110,13 +110,19 @@ namespace
 
 TEST(HarmonicDesign, DuffingAdjointGradientsMatchCentralDifferences)
 {
-  // Point mass, force amplitude factor, force phase and the spring's stiffness (the term's
-  // modulus), on the amplitude and on the trajectory objective, with a change penalty.
+  // Point mass (with its weight under gravity: the weight shifts the cubic spring's mean
+  // stretch, so the motion depends on it), force amplitude factor, force phase and the spring's
+  // stiffness (the term's modulus), on the amplitude and on the trajectory objective, with a
+  // change penalty.
   for (const bool trajectory : {false, true})
     {
-      auto                                          s = duffing(0.5);
+      auto s = duffing(0.5);
+      // A static preload makes the state asymmetric: at zero mean load the amplitude would be even
+      // in the weight and its derivative zero, and a weight missing from the model would go unseen.
+      s->model.add_term(std::make_shared<ConstantForceTerm>("preload", Eigen::Vector2d(0.0, -0.5)));
       std::vector<std::shared_ptr<DesignParameter>> p;
-      p.push_back(make_point_mass_parameter("mass", s->model, {1}, 0.2, 0.0, 2.0));
+      p.push_back(
+          make_point_mass_parameter("mass", s->model, {1}, 0.2, 0.0, 2.0, Eigen::Vector2d(0.0, -2.0)));
       p.push_back(make_force_amplitude_parameter("force", s->forces, {0}, 0.1, 3.0));
       p.push_back(make_force_phase_parameter("phase", s->forces, {0}, -pi, pi));
       p.push_back(make_term_modulus_parameter("stiffness", s->model, 0, 1.0, 0.1, 10.0));
