@@ -45,30 +45,37 @@ def history(rows, out):
     save(fig, out)
 
 
-def trajectories(rows, out):
+def trajectories(rows, out, per_point=0):
+    """One panel per driving frequency and objective point: before, after and target over one
+    period about their means (one coordinate: against the phase; more: the first two)."""
     freqs = sorted({float(r["frequency"]) for r in rows})
-    coords = sorted({k.split("_")[1] for k in rows[0] if k.startswith("before_")})
-    fig, axes = plt.subplots(1, len(freqs), figsize=(5 * len(freqs), 4.5), squeeze=False)
-    for ax, w in zip(axes[0], freqs):
+    coords = sorted({int(k.split("_")[1]) for k in rows[0] if k.startswith("before_")})
+    per_point = per_point or len(coords)
+    points = [coords[i:i + per_point] for i in range(0, len(coords), per_point)]
+    fig, axes = plt.subplots(len(points), len(freqs), figsize=(5 * len(freqs), 4.5 * len(points)),
+                             squeeze=False)
+    for col, w in enumerate(freqs):
         sub = [r for r in rows if float(r["frequency"]) == w]
-        for kind, style in (("before", "C0--"), ("after", "C1-"), ("target", "k:")):
-            if kind + "_0" not in sub[0]:
-                continue
-            cols = [[float(r[kind + "_" + c]) for r in sub] for c in coords]
-            cols = [[v - sum(col) / len(col) for v in col] for col in cols]
-            if len(cols) == 1:
-                phase = [float(r["phase"]) for r in sub]
-                ax.plot(phase + [2 * math.pi], cols[0] + cols[0][:1], style, label=kind)
-                ax.set_xlabel("phase w t [rad]")
-                ax.set_ylabel("displacement from the mean [m]")
-            else:
-                ax.plot(cols[0] + cols[0][:1], cols[1] + cols[1][:1], style, label=kind)
-                ax.set_xlabel("coordinate 0 [m]")
-                ax.set_ylabel("coordinate 1 [m]")
-                ax.set_aspect("equal", adjustable="datalim")
-        ax.set_title("tracked point at w = %.4g rad/s" % w)
-        ax.grid(True, alpha=0.3)
-        ax.legend()
+        for row, point in enumerate(points):
+            ax = axes[row][col]
+            for kind, style in (("before", "C0--"), ("after", "C1-"), ("target", "k:")):
+                if "%s_%d" % (kind, point[0]) not in sub[0]:
+                    continue
+                cols = [[float(r["%s_%d" % (kind, c)]) for r in sub] for c in point]
+                cols = [[v - sum(c) / len(c) for v in c] for c in cols]
+                if len(cols) == 1:
+                    phase = [float(r["phase"]) for r in sub]
+                    ax.plot(phase + [2 * math.pi], cols[0] + cols[0][:1], style, label=kind)
+                    ax.set_xlabel("phase w t [rad]")
+                    ax.set_ylabel("displacement from the mean [m]")
+                else:
+                    ax.plot(cols[0] + cols[0][:1], cols[1] + cols[1][:1], style, label=kind)
+                    ax.set_xlabel("coordinate %d [m]" % point[0])
+                    ax.set_ylabel("coordinate %d [m]" % point[1])
+                    ax.set_aspect("equal", adjustable="datalim")
+            ax.set_title(("point %d " % row if len(points) > 1 else "tracked point ") + "at w = %.4g rad/s" % w)
+            ax.grid(True, alpha=0.3)
+            ax.legend()
     save(fig, out)
 
 
@@ -114,7 +121,10 @@ def main():
     rows = read(sys.argv[2])
     if not rows:
         return 1
-    {"history": history, "trajectories": trajectories, "sweep": sweep}[mode](rows, sys.argv[3])
+    if mode == "trajectories":
+        trajectories(rows, sys.argv[3], int(sys.argv[4]) if len(sys.argv) > 4 else 0)
+        return 0
+    {"history": history, "sweep": sweep}[mode](rows, sys.argv[3])
     return 0
 
 

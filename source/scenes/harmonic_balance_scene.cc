@@ -104,7 +104,12 @@ namespace nlmech
               hb_settings.n_samples = std::max(hb_settings.n_samples, 2 * hb_settings.n_harmonics + 1);
           }
         if (design.enabled())
-          run_design(context, s);
+          {
+            run_design(context, s);
+            // Added masses carry weight: the designed structure hangs differently.
+            if (s.gravity.size() > 0)
+              solve_static_state(context, s, true);
+          }
         const HarmonicBalance hb(s.model, hb_settings, s.forces, s.drives);
         context.summary.add_string("model", model_name);
         context.summary.add_number("harmonics", hb_settings.n_harmonics);
@@ -210,9 +215,9 @@ namespace nlmech
 
       /// The static state under constant loads (gravity) with the drives at their centres: the
       /// start of the curve.
-      static void solve_static_state(RunContext &context, PeriodicStructure &s)
+      static void solve_static_state(RunContext &context, PeriodicStructure &s, const bool designed = false)
       {
-        bool constant_loads = false;
+        bool constant_loads = designed;
         for (const auto &t : s.model.terms())
           constant_loads = constant_loads || dynamic_cast<const ConstantForceTerm *>(t.get()) != nullptr;
         if (!constant_loads)
@@ -221,8 +226,10 @@ namespace nlmech
         for (const auto &d : s.drives)
           held.fix(d.dof, d.center);
         const NewtonResult r = minimize_with_newton(held, s.rest);
-        context.pcout << "static state under gravity: " << r.iterations << " Newton iterations" << std::endl;
-        context.summary.add_number("static_newton_iterations", r.iterations);
+        context.pcout << "static state under gravity" << (designed ? " of the design: " : ": ")
+                      << r.iterations << " Newton iterations" << std::endl;
+        context.summary.add_number(designed ? "design_static_newton_iterations" : "static_newton_iterations",
+                                   r.iterations);
       }
 
       std::string                      model_name;

@@ -623,7 +623,8 @@ namespace nlmech
         run_plot("design.py", {"history", context.output.file("design_history.csv"),
                                context.output.file("design_history.png")});
         run_plot("design.py", {"trajectories", context.output.file("design_trajectories.csv"),
-                               context.output.file("design_trajectories.png")});
+                               context.output.file("design_trajectories.png"),
+                               std::to_string(point_coordinates.front().size())});
         // optimized.prm: this run's parameters with the design's values applied.
         std::ostringstream prm;
         prm << "# The design found by nlmech from " << source_directory

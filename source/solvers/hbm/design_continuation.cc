@@ -69,11 +69,8 @@ namespace nlmech
     // Newton on h(z, t) = 0 and the hyperplane through the prediction normal to the tangent.
     const auto correct = [&](const CurvePoint &from_point, const double ds, CurvePoint &next,
                              unsigned int &iterations) {
-      // A step that would pass the new design ends on it (beyond it a parameter may leave its
-      // bounds, a mass turn negative).
-      const double step = from_point.t + ds * from_point.tt > 1 ? (1 - from_point.t) / from_point.tt : ds;
-      const Eigen::VectorXd zp = from_point.z + step * from_point.tz;
-      const double          tp = from_point.t + step * from_point.tt;
+      const Eigen::VectorXd zp = from_point.z + ds * from_point.tz;
+      const double          tp = from_point.t + ds * from_point.tt;
       next.z = zp, next.t = tp;
       double last = std::numeric_limits<double>::infinity();
       for (iterations = 0; iterations < 8; ++iterations)
@@ -132,15 +129,18 @@ namespace nlmech
         ++continuation_steps;
         CurvePoint   next;
         unsigned int iterations = 0;
+        // A step that would pass the new design ends on it (beyond it a parameter may leave its
+        // bounds, a mass turn negative).
+        const double length = current.t + ds * current.tt > 1 ? (1 - current.t) / current.tt : ds;
         // Accepted when the corrected point lies near the prediction and the curve turns by less
         // than about 30 degrees over the step (no jump to another branch).
         const auto near = [&]() {
-          const Eigen::VectorXd dz = next.z - (current.z + ds * current.tz);
-          const double          dt = next.t - (current.t + ds * current.tt);
-          return std::sqrt(wz * dz.squaredNorm() + dt * dt) <= 0.5 * ds;
+          const Eigen::VectorXd dz = next.z - (current.z + length * current.tz);
+          const double          dt = next.t - (current.t + length * current.tt);
+          return std::sqrt(wz * dz.squaredNorm() + dt * dt) <= 0.5 * length;
         };
         const auto smooth = [&]() { return wz * next.tz.dot(current.tz) + next.tt * current.tt >= 0.85; };
-        if (!correct(current, ds, next, iterations) || !near() ||
+        if (!correct(current, length, next, iterations) || !near() ||
             !tangent(next, wz * current.tz, current.tt) || !smooth())
           {
             ds *= 0.5;
@@ -148,7 +148,7 @@ namespace nlmech
               break;
             continue;
           }
-        if (next.t >= 1 - 1e-9)
+        if (next.t >= 1 - 1e-6)
           {
             // Past the end: the state at t = 1 from the chord between the two points.
             const double    s = std::min(1.0, (1 - current.t) / (next.t - current.t));

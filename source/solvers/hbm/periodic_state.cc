@@ -4,6 +4,7 @@
 #include <deal.II/lac/vector.h>
 #include <deal.II/sundials/kinsol.h>
 
+#include <nlmech/base/quiet_stderr.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
 #include <nlmech/solvers/linear/sparse_factorization.h>
 
@@ -122,6 +123,7 @@ namespace nlmech
     to_dealii(z, u);
     try
       {
+        const QuietStderr quiet; // KINSOL prints every failed solve; the result says why instead
         result.iterations = solver.solve(u);
       }
     catch (const std::exception &e)
