@@ -225,7 +225,23 @@ namespace nlmech
         Model held = s.model;
         for (const auto &d : s.drives)
           held.fix(d.dof, d.center);
-        const NewtonResult r = minimize_with_newton(held, s.rest);
+        NewtonResult r;
+        if (designed)
+          {
+            // Already at rest when the design's values are those the state was settled for (apply):
+            // Newton then cannot improve on a zero gradient, and the state is kept.
+            try
+              {
+                r = minimize_with_newton(held, s.rest);
+              }
+            catch (const std::exception &)
+              {
+                context.summary.add_string("design_static_state", "kept (no Newton progress from it)");
+                return;
+              }
+          }
+        else
+          r = minimize_with_newton(held, s.rest);
         context.pcout << "static state under gravity" << (designed ? " of the design: " : ": ")
                       << r.iterations << " Newton iterations" << std::endl;
         context.summary.add_number(designed ? "design_static_newton_iterations" : "static_newton_iterations",

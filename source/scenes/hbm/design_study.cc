@@ -10,6 +10,7 @@
 #include <nlmech/scenes/hbm/design_study.h>
 #include <nlmech/solvers/hbm/design.h>
 #include <nlmech/solvers/hbm/design_parameters.h>
+#include <nlmech/solvers/newton/newton_solver.h>
 
 #include <algorithm>
 #include <chrono>
@@ -43,7 +44,7 @@ namespace nlmech
     ParameterSpec parse_spec(const std::string &text)
     {
       static const std::regex form(
-          R"(^\s*([a-z ]+?)\s*(?:(at|[0-9]+)\s*([^=]*))?=\s*(\S+)\s+in\s+(\S+)\s*,\s*(\S+)\s*$)");
+          R"(^\s*([a-z ]+?)\s*(?:(at(?=\s)|[0-9]+)\s*([^=]*))?=\s*(\S+)\s+in\s+(\S+)\s*,\s*(\S+)\s*$)");
       std::smatch m;
       AssertThrow(
           std::regex_match(text, m, form),
@@ -59,6 +60,20 @@ namespace nlmech
         AssertThrow(values.size() == 1, ExcMessage("Design parameter <" + p.text + ">: one " + what + "."));
         return values[0];
       };
+      static const std::vector<std::string> kinds = {"mass",
+                                                     "force amplitude",
+                                                     "force phase",
+                                                     "drive amplitude",
+                                                     "layer modulus",
+                                                     "element modulus",
+                                                     "spring stiffness",
+                                                     "spring rest length",
+                                                     "spring attachment"};
+      AssertThrow(
+          std::find(kinds.begin(), kinds.end(), p.kind) != kinds.end(),
+          ExcMessage("Design parameter <" + p.text + ">: unknown kind <" + p.kind +
+                     "> (mass at, force amplitude, force phase, drive amplitude, layer modulus, element "
+                     "modulus, spring stiffness, spring rest length, spring attachment)."));
       p.initial = number(m[4].str(), "initial value"), p.lower = number(m[5].str(), "lower bound");
       p.upper = number(m[6].str(), "upper bound");
       AssertThrow(p.lower <= p.upper,
@@ -142,6 +157,34 @@ namespace nlmech
                                                         s.model, std::size_t(layer.first), layer.second,
                                                         p.lower, p.upper));
             }
+          else if (p.kind == "spring stiffness" || p.kind == "spring rest length" ||
+                   p.kind == "spring attachment")
+            {
+              // `spring stiffness S`, `spring rest length S`, `spring attachment S u_a|w_a|u_b|w_b`.
+              std::istringstream in(p.selection);
+              double             spring = -1;
+              std::string        key;
+              in >> spring >> key;
+              AssertThrow(
+                  spring >= 0 && spring == std::floor(spring),
+                  ExcMessage("Design parameter <" + p.text + ">: give the spring's index (0-based)."));
+              static const std::vector<std::string> keys  = {"u_a", "w_a", "u_b", "w_b"};
+              unsigned int                          datum = p.kind == "spring stiffness" ? 5 : 4;
+              if (p.kind == "spring attachment")
+                {
+                  const auto k = std::find(keys.begin(), keys.end(), key);
+                  AssertThrow(k != keys.end(),
+                              ExcMessage("Design parameter <" + p.text +
+                                         ">: the attachment coordinate is u_a, w_a, u_b or w_b."));
+                  datum = unsigned(k - keys.begin());
+                }
+              const std::string label = p.kind == "spring stiffness"     ? "k"
+                                        : p.kind == "spring rest length" ? "L0"
+                                                                         : keys[datum];
+              out.push_back(make_spring_parameter(label + "_spring_" + std::to_string(std::size_t(spring)),
+                                                  s.model, std::size_t(spring), datum, p.initial, p.lower,
+                                                  p.upper));
+            }
           else if (p.kind == "element modulus")
             {
               AssertThrow(!s.element_moduli.empty(),
@@ -160,7 +203,8 @@ namespace nlmech
           else
             AssertThrow(false, ExcMessage("Design parameter <" + p.text + ">: unknown kind <" + p.kind +
                                           "> (mass at, force amplitude, force phase, drive amplitude, layer "
-                                          "modulus, element modulus)."));
+                                          "modulus, element modulus, spring stiffness, spring rest length, "
+                                          "spring attachment)."));
           if (p.kind != "element modulus")
             for (std::size_t k = first; k < out.size(); ++k)
               out[k]->set(p.initial);
@@ -229,9 +273,12 @@ namespace nlmech
           std::smatch m;
           if (std::regex_match(line, m, set))
             {
+              // Any value may be tested (a long parameter list is no file name: the error_code
+              // overload reports instead of throwing).
               const std::filesystem::path value = trim(m[2].str());
+              std::error_code             ec;
               if (!value.is_absolute() && !value.empty() &&
-                  std::filesystem::is_regular_file(std::filesystem::path(directory) / value))
+                  std::filesystem::is_regular_file(std::filesystem::path(directory) / value, ec))
                 line =
                     m[1].str() + std::filesystem::absolute(std::filesystem::path(directory) / value).string();
             }
@@ -252,7 +299,9 @@ namespace nlmech
         "Parameters", "", Patterns::Anything(),
         "`;`-separated `KIND [SELECTION] = INITIAL in LOWER, UPPER`: mass at X, Y, Z [kg]; force "
         "amplitude [-]; force phase [rad]; drive amplitude [-]; layer modulus L [Pa]; element modulus "
-        "(every plane element, bounds as factors) [Pa].");
+        "(every plane element, bounds as factors) [Pa]; mechanisms: spring stiffness S [N/m], spring rest "
+        "length S [m], spring attachment S u_a|w_a|u_b|w_b (link-frame coordinates of spring S, 0-based) "
+        "[-].");
     prm.declare_entry("Frequencies", "", Patterns::Anything(),
                       "Driving frequencies of the objective [rad/s].");
     prm.declare_entry(
@@ -346,6 +395,15 @@ namespace nlmech
     for (const auto &p : settings.parameters)
       specs.push_back(parse_spec(p));
     auto parameters = make_parameters(s, specs);
+    if (s.gravity.size() > 0)
+      {
+        // The initial values' added weights move the static state the periodic states start from.
+        Model held = s.model;
+        for (const auto &d : s.drives)
+          held.fix(d.dof, d.center);
+        const NewtonResult r = minimize_with_newton(held, s.rest);
+        context.summary.add_number("design_initial_static_newton_iterations", r.iterations);
+      }
     // The coordinates of the objective: per point (the scene's tracked one, or those listed) its
     // Amplitude axes, free ones only.
     std::vector<std::vector<std::size_t>> point_coordinates;

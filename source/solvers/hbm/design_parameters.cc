@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/models/dynamics/elastic_solids.h>
+#include <nlmech/models/dynamics/mechanism.h>
 #include <nlmech/models/scaled_energy.h>
 #include <nlmech/solvers/hbm/design_parameters.h>
 
@@ -279,7 +280,111 @@ namespace nlmech
       std::vector<std::size_t>           group;
       double                             modulus;
     };
+
+    /// The mechanism's link springs with their data shared with (and changed by) the design.
+    struct SharedSprings
+    {
+      static constexpr std::size_t            n_dofs = AttachedSpringElements::n_dofs;
+      std::shared_ptr<AttachedSpringElements> springs;
+      std::size_t                             n_elements() const { return springs->n_elements(); }
+      std::array<std::size_t, n_dofs>         dofs(const std::size_t e) const { return springs->dofs(e); }
+      template <typename S>
+      S energy(const std::array<S, n_dofs> &x, const std::size_t e) const
+      {
+        return springs->energy(x, e);
+      }
+    };
+
+    /// One datum of one link spring: an attachment coordinate (0-3: u_a, w_a, u_b, w_b), the rest
+    /// length (4) or the stiffness (5).
+    class SpringParameter : public DesignParameter
+    {
+    public:
+      SpringParameter(std::string name, std::shared_ptr<AttachedSpringElements> springs, std::size_t spring,
+                      unsigned int datum, double lower, double upper)
+          : DesignParameter(std::move(name), lower, upper)
+          , springs(std::move(springs))
+          , spring(spring)
+          , datum(datum)
+      {
+      }
+      double value() const override { return springs->data(spring)[datum]; }
+      void   set(const double p) override
+      {
+        if (datum < 4)
+          springs->local[spring][datum] = p;
+        else if (datum == 4)
+          springs->rest_length[spring] = p;
+        else
+          springs->stiffness[spring] = p;
+      }
+      bool changes_force() const override { return true; }
+      void add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                            const double, const double, Eigen::VectorXd &df) const override
+      {
+        // f = -grad E - D_beta H v, differentiated in the datum q by nested forward AD: the
+        // innermost level carries d/dq, the middle one d/de along v (H v), the outer one d/dx.
+        using Q             = Sacado::Fad::SFad<double, 1>;
+        using V             = Sacado::Fad::SFad<Q, 1>;
+        using X             = Sacado::Fad::SFad<V, AttachedSpringElements::n_dofs>;
+        constexpr auto   N  = AttachedSpringElements::n_dofs;
+        const auto       ds = springs->dofs(spring);
+        std::array<X, N> local;
+        for (std::size_t i = 0; i < N; ++i)
+          {
+            V along(Q(x[Eigen::Index(ds[i])]));
+            along.resizeAndZero(1);
+            along.fastAccessDx(0) = Q(v.size() > 0 ? v[Eigen::Index(ds[i])] : 0.0);
+            local[i]              = X(N, i, along);
+          }
+        const auto       values = springs->data(spring);
+        std::array<X, 6> data;
+        for (unsigned int k = 0; k < 6; ++k)
+          data[k] = X(V(k == datum ? Q(1, 0, values[k]) : Q(values[k])));
+        const X      energy = AttachedSpringElements::energy_of(local, data);
+        const double beta   = hb.parameters().rayleigh_stiffness;
+        for (std::size_t i = 0; i < N; ++i)
+          df[Eigen::Index(ds[i])] -= energy.dx(i).val().dx(0) + beta * energy.dx(i).dx(0).dx(0);
+      }
+
+    private:
+      std::shared_ptr<AttachedSpringElements> springs;
+      std::size_t                             spring;
+      unsigned int                            datum;
+    };
   } // namespace
+
+  std::shared_ptr<DesignParameter> make_spring_parameter(std::string name, Model &model,
+                                                         const std::size_t spring, const unsigned int datum,
+                                                         const double initial, const double lower,
+                                                         const double upper)
+  {
+    AssertThrow(datum < 6, dealii::ExcMessage("Design: a spring datum is 0-3 (attachment), 4 (rest length) "
+                                              "or 5 (stiffness)."));
+    // The springs' term, replaced on first use by one whose data the parameters share.
+    std::shared_ptr<AttachedSpringElements> shared;
+    for (std::size_t t = 0; t < model.terms().size() && !shared; ++t)
+      if (const auto *d = dynamic_cast<const ElementEnergyTerm<SharedSprings> *>(model.terms()[t].get()))
+        shared = d->elements().springs;
+      else if (const auto *a =
+                   dynamic_cast<const ElementEnergyTerm<AttachedSpringElements> *>(model.terms()[t].get()))
+        {
+          shared = std::make_shared<AttachedSpringElements>(a->elements());
+          replace_term(model, t,
+                       std::make_shared<ElementEnergyTerm<SharedSprings>>(a->name() + " (design)",
+                                                                          SharedSprings{shared}));
+        }
+    AssertThrow(shared, dealii::ExcMessage("Design: spring parameters need a mechanism with link springs."));
+    AssertThrow(spring < shared->n_elements(),
+                dealii::ExcMessage("Design: no spring " + std::to_string(spring) + " (the mechanism has " +
+                                   std::to_string(shared->n_elements()) + ")."));
+    AssertThrow(
+        datum < 4 || lower >= 0,
+        dealii::ExcMessage("Design: a spring's rest length and stiffness bounds must not be negative."));
+    auto p = std::make_shared<SpringParameter>(std::move(name), shared, spring, datum, lower, upper);
+    p->set(initial);
+    return p;
+  }
 
   std::shared_ptr<DesignParameter> make_point_mass_parameter(std::string name, Model &model,
                                                              std::vector<std::size_t> dofs,

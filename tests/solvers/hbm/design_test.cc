@@ -3,9 +3,11 @@
 // objectives; the sensitivity S (2.4.3) against re-solved states; first-order predictions whose
 // error falls like |dp|^2; a mass tuned to resonance whose optimum is known in closed form.
 #include <nlmech/base/nearest_point.h>
+#include <nlmech/models/dynamics/mechanism.h>
 #include <nlmech/models/dynamics/spring_network.h>
 #include <nlmech/solvers/hbm/design.h>
 #include <nlmech/solvers/hbm/design_parameters.h>
+#include <nlmech/solvers/newton/newton_solver.h>
 
 #include "hbm_test_helpers.h"
 
@@ -328,4 +330,60 @@ TEST(HarmonicDesign, ParameterContinuationFollowsTheStateAroundFolds)
   std::printf("  the frequency-response curve of F = 3.6 at w = 2.2: %.10f\n", reference);
   EXPECT_NEAR(A, reference, 1e-7 * reference);
   EXPECT_GT(A, 20 * small);
+}
+
+TEST(HarmonicDesign, MechanismSpringAndWeightGradientsMatchCentralDifferences)
+{
+  // A shaken planar leg under gravity (models/dynamics/mechanism.h) with stiffness damping: a
+  // spring's stiffness, another's rest length, attachment coordinates on both ends' links and an
+  // added joint mass with its weight; amplitude and trajectory of the toe.
+  MechanismDescription d;
+  d.joints         = {{{0, 0}}, {{-0.06, 0}}, {{0.03, -0.12}}, {{-0.02, -0.24}}, {{0.06, -0.27}}};
+  d.masses         = {0.01, 0.01, 0.03, 0.02, 0.01};
+  d.links          = {{{0, 1}}, {{0, 2}}, {{2, 3}}, {{3, 4}}};
+  d.springs        = {{0, 2, 1.0, 0.0, 0.3, 0.0, 70.2, 0.146}, {2, 3, 0.2, 0.0, 1.0, 0.0, 16.0, 0.088}};
+  d.link_stiffness = 1e4, d.angle_stiffness = 10, d.gravity = 9.81;
+  for (const bool trajectory : {false, true})
+    {
+      const MechanismModel mech = make_mechanism_model(d);
+      auto                 s    = std::make_unique<::Setup>();
+      s->model                  = mech.model;
+      s->settings.n_harmonics   = 5;
+      s->settings.rayleigh_mass = 1.0, s->settings.rayleigh_stiffness = 2e-3;
+      s->rest = mech.rest_positions;
+      for (const std::size_t j : {0u, 1u})
+        for (const std::size_t i : {0u, 1u})
+          s->drives.push_back(
+              {2 * j + i, i == 1 ? 0.002 : 0.0, 0.0, 0.0, s->rest[Eigen::Index(2 * j + i)], {}, {}});
+      Eigen::VectorXd gravity = Eigen::VectorXd::Zero(10);
+      for (Eigen::Index j = 0; j < 5; ++j)
+        gravity[2 * j + 1] = -d.gravity;
+      std::vector<std::shared_ptr<DesignParameter>> p;
+      p.push_back(make_spring_parameter("k_0", s->model, 0, 5, 70.2, 10.0, 200.0));
+      p.push_back(make_spring_parameter("L0_1", s->model, 1, 4, 0.088, 0.02, 0.2));
+      p.push_back(make_spring_parameter("u_b_0", s->model, 0, 2, 0.3, 0.0, 1.0));
+      p.push_back(make_spring_parameter("w_a_1", s->model, 1, 1, 0.05, -0.5, 0.5));
+      p.push_back(make_point_mass_parameter("mass", s->model, {6, 7}, 0.01, 0.0, 0.1, gravity));
+      {
+        Model held = s->model; // the static state under gravity, drives at their centres
+        for (const auto &dr : s->drives)
+          held.fix(dr.dof, dr.center);
+        minimize_with_newton(held, s->rest);
+      }
+      const double omega = 18.85;
+      DesignCase   c;
+      c.omega = omega;
+      if (trajectory)
+        c.objectives.push_back(std::make_shared<TrajectoryObjective>(std::vector<std::size_t>{8, 9},
+                                                                     ellipse(0.01, 0.004, 64, 2), 5));
+      else
+        c.objectives.push_back(std::make_shared<AmplitudeObjective>(std::vector<std::size_t>{8, 9}, 1.0));
+      DesignSettings ds;
+      ds.solve.relative_tolerance = 1e-13;
+      HarmonicDesign design(s->rebuild(), p, {c}, {s->solved(omega)}, ds);
+      std::printf("mechanism, %s objective:\n", trajectory ? "trajectory" : "amplitude");
+      const double error = gradient_error(design);
+      std::printf("  largest relative difference %.2e\n", error);
+      EXPECT_LT(error, 1e-6);
+    }
 }

@@ -64,15 +64,26 @@ namespace nlmech
       p[0] = x[o] + u * ex - w * ey;
       p[1] = x[o + 1] + u * ey + w * ex;
     }
+    /// The energy with the spring's data (u_a, w_a, u_b, w_b, L0, k) of any scalar type: design
+    /// parameters differentiate it in them by nested forward AD.
+    template <typename S, typename P>
+    static S energy_of(const std::array<S, 8> &x, const std::array<P, 6> &data)
+    {
+      using std::sqrt;
+      const S ax = x[2] - x[0], ay = x[3] - x[1], bx = x[6] - x[4], by = x[7] - x[5];
+      const S dx = x[4] + data[2] * bx - data[3] * by - (x[0] + data[0] * ax - data[1] * ay);
+      const S dy = x[5] + data[2] * by + data[3] * bx - (x[1] + data[0] * ay + data[1] * ax);
+      const S s  = sqrt(dx * dx + dy * dy) - data[4];
+      return 0.5 * data[5] * s * s;
+    }
     template <typename S>
     S energy(const std::array<S, 8> &x, std::size_t e) const
     {
-      using std::sqrt;
-      S p[2], q[2];
-      attachment(x, 0, local[e][0], local[e][1], p);
-      attachment(x, 1, local[e][2], local[e][3], q);
-      const S s = sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1])) - rest_length[e];
-      return 0.5 * stiffness[e] * s * s;
+      return energy_of(x, data(e));
+    }
+    std::array<double, 6> data(std::size_t e) const
+    {
+      return {{local[e][0], local[e][1], local[e][2], local[e][3], rest_length[e], stiffness[e]}};
     }
   };
 

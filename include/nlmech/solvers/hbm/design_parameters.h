@@ -1,6 +1,7 @@
 #pragma once
 // The kinds of harmonic-balance design parameter (solvers/hbm/design.h), each on the parts of a
-// structure it changes: an extra point mass on a vertex's unknowns; the amplitude factor and the
+// structure it changes: an extra point mass on a vertex's unknowns; a mechanism spring's stiffness,
+// rest length or attachment; the amplitude factor and the
 // phase of point forces; the amplitude factor of the drives (penalty or prescribed); the Young's
 // modulus of a whole energy term (a layer, a material group: the term's energy is linear in it at
 // fixed Poisson's ratio) or of a group of elements within a plane-triangle term (a modulus per
@@ -37,6 +38,13 @@ namespace nlmech
   std::shared_ptr<DesignParameter> make_drive_amplitude_parameter(std::string                 name,
                                                                   std::vector<HarmonicDrive> &drives,
                                                                   double lower, double upper);
+
+  /// One datum of link spring `spring` of a mechanism (models/dynamics/mechanism.h): `datum` 0-3 an
+  /// attachment coordinate u_a, w_a, u_b, w_b (in its link's frame), 4 the rest length [m], 5 the
+  /// stiffness [N/m]. The springs' term is replaced by one whose data the parameters share.
+  std::shared_ptr<DesignParameter> make_spring_parameter(std::string name, Model &model, std::size_t spring,
+                                                         unsigned int datum, double initial, double lower,
+                                                         double upper);
 
   /// The Young's modulus E of the model's energy term `term` (initially `modulus`): the term is
   /// replaced by itself times E / modulus.
