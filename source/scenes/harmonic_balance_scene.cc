@@ -8,6 +8,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <nlmech/base/atomic_output.h>
+#include <nlmech/base/exceptions.h>
 #include <nlmech/base/json.h>
 #include <nlmech/base/plot.h>
 #include <nlmech/base/progress.h>
@@ -74,6 +75,7 @@ namespace nlmech
         const ShareElementsOverRanks sharing(context.comm);
         context.summary.add_number("element_sharing_ranks", element_sharing_ranks());
         PeriodicStructure s;
+        DesignOutcome     designed;
         {
           TimerOutput::Scope t(context.timer, "model");
           s = structure->build(context, settings.harmonic_balance, excitation);
@@ -105,10 +107,23 @@ namespace nlmech
           }
         if (design.enabled())
           {
-            run_design(context, s);
-            // Added masses carry weight: the designed structure hangs differently.
+            designed = run_design(context, s);
+            // Added masses carry weight and links change length: the designed structure hangs
+            // differently. Its static state is sought from the mean of its periodic state (near it
+            // when the motion is small; the old static state may be far from it).
             if (s.gravity.size() > 0)
-              solve_static_state(context, s, true);
+              {
+                if (!designed.states.empty())
+                  {
+                    const HarmonicBalance at(s.model, hb_settings, s.forces, s.drives);
+                    Eigen::VectorXd start = at.full(designed.states.front().head(Eigen::Index(at.n_free())));
+                    for (const auto &d : s.drives)
+                      start[Eigen::Index(d.dof)] = d.center;
+                    if (start.allFinite())
+                      s.rest = start;
+                  }
+                solve_static_state(context, s, true);
+              }
           }
         const HarmonicBalance hb(s.model, hb_settings, s.forces, s.drives);
         context.summary.add_string("model", model_name);
@@ -166,12 +181,20 @@ namespace nlmech
           run_plot("design.py", {"curves", context.output.file("frequency_response_initial.csv"),
                                  context.output.file("frequency_response.csv"),
                                  context.output.file("design_frequency_response.png"),
-                                 json_number(design.frequencies.front())});
+                                 json_number(designed.frequencies.empty() ? design.frequencies.front()
+                                                                          : designed.frequencies.front())});
         if (excitation.period_frames > 0 && context.is_root() && !frc.points.empty())
           {
-            TimerOutput::Scope     t(context.timer, "output (one period)");
-            const Eigen::VectorXd &z = frc.peaks.empty() ? frc.points.back().z : frc.peaks.front().z;
-            const double           w = frc.peaks.empty() ? frc.points.back().omega : frc.peaks.front().omega;
+            TimerOutput::Scope t(context.timer, "output (one period)");
+            // The design's state at its first driving frequency (the motion designed for); else the
+            // first resonance peak, or the curve's end.
+            const bool             at_design = !designed.states.empty();
+            const Eigen::VectorXd &z         = at_design           ? designed.states.front()
+                                               : frc.peaks.empty() ? frc.points.back().z
+                                                                   : frc.peaks.front().z;
+            const double           w         = at_design           ? designed.frequencies.front()
+                                               : frc.peaks.empty() ? frc.points.back().omega
+                                                                   : frc.peaks.front().omega;
             write_period(context, hb, s, *structure, z, w, excitation.period_frames);
           }
         evaluate_frequencies(context, hb, s, frc, settings);
@@ -187,7 +210,7 @@ namespace nlmech
     private:
       /// The design study (subsection Design): the initial design's curve first, then the study,
       /// which leaves `s` at the design found.
-      void run_design(RunContext &context, PeriodicStructure &s)
+      DesignOutcome run_design(RunContext &context, PeriodicStructure &s)
       {
         if (settings.trace_curve && design.initial_curve)
           {
@@ -209,8 +232,8 @@ namespace nlmech
                           << (frc.completed ? "" : " (stopped: " + frc.stop_reason + ")") << std::endl;
           }
         TimerOutput::Scope t(context.timer, "design");
-        run_design_study(context, s, settings.harmonic_balance, settings.continuation, design, prm_text,
-                         source_directory);
+        return run_design_study(context, s, settings.harmonic_balance, settings.continuation, design,
+                                prm_text, source_directory);
       }
 
       /// The static state under constant loads (gravity) with the drives at their centres: the
@@ -234,9 +257,10 @@ namespace nlmech
               {
                 r = minimize_with_newton(held, s.rest);
               }
-            catch (const std::exception &)
+            catch (const std::exception &e)
               {
-                context.summary.add_string("design_static_state", "kept (no Newton progress from it)");
+                context.pcout << "static state of the design: kept (" << message_of(e) << ")" << std::endl;
+                context.summary.add_string("design_static_state", "kept (" + message_of(e) + ")");
                 return;
               }
           }

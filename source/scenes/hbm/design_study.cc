@@ -68,12 +68,13 @@ namespace nlmech
                                                      "element modulus",
                                                      "spring stiffness",
                                                      "spring rest length",
-                                                     "spring attachment"};
+                                                     "spring attachment",
+                                                     "link length"};
       AssertThrow(
           std::find(kinds.begin(), kinds.end(), p.kind) != kinds.end(),
           ExcMessage("Design parameter <" + p.text + ">: unknown kind <" + p.kind +
                      "> (mass at, force amplitude, force phase, drive amplitude, layer modulus, element "
-                     "modulus, spring stiffness, spring rest length, spring attachment)."));
+                     "modulus, spring stiffness, spring rest length, spring attachment, link length)."));
       p.initial = number(m[4].str(), "initial value"), p.lower = number(m[5].str(), "lower bound");
       p.upper = number(m[6].str(), "upper bound");
       AssertThrow(p.lower <= p.upper,
@@ -185,6 +186,15 @@ namespace nlmech
                                                   s.model, std::size_t(spring), datum, p.initial, p.lower,
                                                   p.upper));
             }
+          else if (p.kind == "link length")
+            {
+              const auto index = parse_number_list(p.selection, "Design parameter <" + p.text + "> link");
+              AssertThrow(index.size() == 1 && index[0] >= 0 && index[0] == std::floor(index[0]),
+                          ExcMessage("Design parameter <" + p.text + ">: give the link's index (0-based)."));
+              out.push_back(make_link_length_parameter("L_link_" + std::to_string(std::size_t(index[0])),
+                                                       s.model, std::size_t(index[0]), p.initial, p.lower,
+                                                       p.upper));
+            }
           else if (p.kind == "element modulus")
             {
               AssertThrow(!s.element_moduli.empty(),
@@ -204,7 +214,7 @@ namespace nlmech
             AssertThrow(false, ExcMessage("Design parameter <" + p.text + ">: unknown kind <" + p.kind +
                                           "> (mass at, force amplitude, force phase, drive amplitude, layer "
                                           "modulus, element modulus, spring stiffness, spring rest length, "
-                                          "spring attachment)."));
+                                          "spring attachment, link length)."));
           if (p.kind != "element modulus")
             for (std::size_t k = first; k < out.size(); ++k)
               out[k]->set(p.initial);
@@ -301,15 +311,23 @@ namespace nlmech
         "amplitude [-]; force phase [rad]; drive amplitude [-]; layer modulus L [Pa]; element modulus "
         "(every plane element, bounds as factors) [Pa]; mechanisms: spring stiffness S [N/m], spring rest "
         "length S [m], spring attachment S u_a|w_a|u_b|w_b (link-frame coordinates of spring S, 0-based) "
-        "[-].");
+        "[-]; link length L (rigid link L's length, 0-based) [m].");
     prm.declare_entry("Frequencies", "", Patterns::Anything(),
                       "Driving frequencies of the objective [rad/s].");
     prm.declare_entry(
-        "Objective", "amplitude", Patterns::Selection("amplitude|trajectory"),
+        "Objective", "amplitude", Patterns::Selection("amplitude|trajectory|peak amplitude|peak frequency"),
         "amplitude: (A - target)^2 of the tracked point (2.4.8); trajectory: the phase-free distance "
-        "to Target trajectory (2.4.6-2.4.7).");
+        "to Target trajectory (2.4.6-2.4.7); peak amplitude: (A* - target)^2 with A* the resonance "
+        "peak's amplitude, the largest over the frequency near each of Frequencies (found again after "
+        "every change, inside Peak window); peak frequency: (w* - Target frequency)^2, the peak placed "
+        "at a frequency.");
     prm.declare_entry("Target amplitude", "1", Patterns::Double(0),
                       "A (2.3.14) aimed at; a large value maximises the amplitude [m].");
+    prm.declare_entry("Peak window", "", Patterns::Anything(),
+                      "peak objectives: LOW, HIGH, the frequencies the peak must stay between (each of "
+                      "Frequencies inside) [rad/s].");
+    prm.declare_entry("Target frequency", "0", Patterns::Double(0),
+                      "peak frequency: where the resonance peak should lie [rad/s].");
     prm.declare_entry("Amplitude axes", "", Patterns::Anything(),
                       "Coordinates of the tracked point in A (x, y, z; empty: all).");
     prm.declare_entry("Objective points", "", Patterns::Anything(),
@@ -349,6 +367,8 @@ namespace nlmech
         parameters.push_back(p);
     frequencies = parse_number_list(prm.get("Frequencies"), "Design: Frequencies");
     objective = prm.get("Objective"), target_amplitude = prm.get_double("Target amplitude");
+    const auto window = parse_number_list(prm.get("Peak window"), "Design: Peak window");
+    target_frequency  = prm.get_double("Target frequency");
     axes.clear();
     for (const auto &a : Utilities::split_string_list(prm.get("Amplitude axes"), ','))
       {
@@ -380,6 +400,22 @@ namespace nlmech
       AssertThrow(w > 0, ExcMessage("Design: driving frequencies must be positive."));
     AssertThrow(objective != "trajectory" || !target_file.empty(),
                 ExcMessage("Design: the trajectory objective needs a Target trajectory file."));
+    AssertThrow(!peak() || mode != "explore",
+                ExcMessage("Design: explore predicts states at fixed frequencies; with a peak objective use "
+                           "apply or optimize."));
+    if (peak())
+      {
+        AssertThrow(window.size() == 2 && window[0] > 0 && window[0] < window[1],
+                    ExcMessage("Design: the " + objective +
+                               " objective needs Peak window = LOW, HIGH with 0 < LOW < HIGH [rad/s]."));
+        peak_low = window[0], peak_high = window[1];
+        for (const double w : frequencies)
+          AssertThrow(w > peak_low && w < peak_high,
+                      ExcMessage("Design: the frequency " + std::to_string(w) +
+                                 " rad/s lies outside the Peak window; the peak is sought from it."));
+        AssertThrow(objective != "peak frequency" || target_frequency > 0,
+                    ExcMessage("Design: the peak frequency objective needs a positive Target frequency."));
+      }
     if (!target_file.empty())
       target_file = resolve_input_path(target_file, current_parameter_directory());
   }
@@ -446,6 +482,8 @@ namespace nlmech
         objectives.push_back(std::make_shared<TrajectoryObjective>(tracked, target, hb_settings.n_harmonics,
                                                                    settings.phases, settings.sharpness));
       }
+    else if (settings.objective == "peak frequency")
+      objectives.push_back(std::make_shared<PeakFrequencyObjective>(settings.target_frequency));
     else
       for (const auto &c : point_coordinates)
         objectives.push_back(std::make_shared<AmplitudeObjective>(c, settings.target_amplitude));
@@ -475,22 +513,43 @@ namespace nlmech
                            std::to_string(continuation.omega_start) + " rad/s: " + frc.stop_reason + ")."));
             z = frc.points.back().z;
           }
-        cases.push_back({w, objectives});
+        DesignCase dc;
+        dc.omega = w, dc.objectives = objectives;
+        if (settings.peak())
+          {
+            // The peak of the (first) objective point's amplitude, sought from w inside the window.
+            dc.peak = true, dc.omega_low = settings.peak_low, dc.omega_high = settings.peak_high;
+            dc.peak_dofs = point_coordinates.front();
+          }
+        cases.push_back(dc);
         states.push_back(z);
       }
     DesignSettings ds;
-    ds.change_penalty = settings.change_penalty;
-    HarmonicDesign design(rebuild, parameters, cases, states, ds);
-    const auto     amplitudes = [&]() {
+    ds.change_penalty   = settings.change_penalty;
+    ds.peak_search_step = continuation.max_step;
+    HarmonicDesign      design(rebuild, parameters, cases, states, ds);
+    std::vector<double> initial_omegas;
+    for (std::size_t c = 0; c < cases.size(); ++c)
+      initial_omegas.push_back(design.omega(c));
+    if (settings.peak())
+      {
+        context.summary.add_numbers("design_peak_frequency_initial", initial_omegas);
+        for (std::size_t c = 0; c < cases.size(); ++c)
+          context.pcout << "design: resonance peak of the initial design at " << design.omega(c)
+                        << " rad/s (sought from " << cases[c].omega << ")" << std::endl;
+      }
+    const auto amplitudes = [&]() {
       std::vector<double> a;
       for (std::size_t c = 0; c < cases.size(); ++c)
         for (const auto &coordinates : point_coordinates)
-          a.push_back(design.balance().amplitude(design.state(c), cases[c].omega, coordinates));
+          a.push_back(design.balance().amplitude(design.state(c), design.omega(c), coordinates));
       return a;
     };
-    const std::vector<Eigen::VectorXd> initial_states    = states;
-    const std::vector<double>          initial_amplitude = amplitudes();
-    const double                       initial_objective = design.objective();
+    std::vector<Eigen::VectorXd> initial_states;
+    for (std::size_t c = 0; c < cases.size(); ++c)
+      initial_states.push_back(design.state(c));
+    const std::vector<double> initial_amplitude = amplitudes();
+    const double              initial_objective = design.objective();
     context.pcout << "design: " << parameters.size() << " parameters, " << cases.size() << " frequencies, "
                   << objective_name << " objective " << initial_objective << std::endl;
     context.summary.add_number("design_parameters", parameters.size());
@@ -602,8 +661,9 @@ namespace nlmech
                 const Eigen::VectorXd &z = z0[c];
                 const double size        = z.tail(z.size() - Eigen::Index(design.balance().n_free())).norm();
                 const double err         = (design.state(c) - z - S[c] * dp).norm() / size;
-                sweep << json_number(t) << "," << json_number(dp.norm()) << "," << json_number(cases[c].omega)
-                      << "," << json_number(err) << "," << json_number(size) << "\n";
+                sweep << json_number(t) << "," << json_number(dp.norm()) << ","
+                      << json_number(design.omega(c)) << "," << json_number(err) << "," << json_number(size)
+                      << "\n";
               }
           }
         AssertThrow(design.update(p0), ExcMessage("Design: the explored design no longer solves."));
@@ -621,13 +681,21 @@ namespace nlmech
     for (std::size_t c = 0; c < cases.size(); ++c)
       {
         gains.push_back(final_amplitude[c] / std::max(initial_amplitude[c], 1e-300));
-        const HillResult h = hill_stability(design.balance(), design.state(c), cases[c].omega);
-        context.pcout << "design at w = " << cases[c].omega << " rad/s: amplitude " << initial_amplitude[c]
+        const HillResult h = hill_stability(design.balance(), design.state(c), design.omega(c));
+        context.pcout << "design at w = " << design.omega(c) << " rad/s: amplitude " << initial_amplitude[c]
                       << " -> " << final_amplitude[c] << " (" << gains.back()
                       << "x), Hill: " << (h.determined ? (h.stable ? "stable" : "UNSTABLE") : "undetermined")
                       << ", max multiplier " << h.max_multiplier << std::endl;
         unstable = unstable || (h.determined && !h.stable);
         context.summary.add_figure("design_max_multiplier_" + std::to_string(c), h.max_multiplier, "1");
+      }
+    if (settings.peak())
+      {
+        std::vector<double> omegas;
+        for (std::size_t c = 0; c < cases.size(); ++c)
+          omegas.push_back(design.omega(c));
+        context.summary.add_numbers("design_peak_frequency_final", omegas);
+        context.summary.add_number("design_peak_searches", design.peak_searches);
       }
     context.summary.add_numbers("design_amplitude_initial", initial_amplitude);
     context.summary.add_numbers("design_amplitude_final", final_amplitude);
@@ -660,12 +728,15 @@ namespace nlmech
           {
             std::vector<double> t(M);
             for (unsigned int i = 0; i < M; ++i)
-              t[i] = 2 * pi / cases[c].omega * i / M;
-            const Eigen::MatrixXd xb = design.balance().positions_at(initial_states[c], cases[c].omega, t);
-            const Eigen::MatrixXd xa = design.balance().positions_at(design.state(c), cases[c].omega, t);
+              t[i] = 2 * pi / initial_omegas[c] * i / M;
+            std::vector<double> ta(M);
+            for (unsigned int i = 0; i < M; ++i)
+              ta[i] = 2 * pi / design.omega(c) * i / M;
+            const Eigen::MatrixXd xb = design.balance().positions_at(initial_states[c], initial_omegas[c], t);
+            const Eigen::MatrixXd xa = design.balance().positions_at(design.state(c), design.omega(c), ta);
             for (unsigned int i = 0; i < M; ++i)
               {
-                traj << json_number(cases[c].omega) << "," << json_number(2 * pi * i / M);
+                traj << json_number(design.omega(c)) << "," << json_number(2 * pi * i / M);
                 for (std::size_t j = 0; j < tracked.size(); ++j)
                   {
                     traj << "," << json_number(xb(Eigen::Index(tracked[j]), i)) << ","
@@ -710,10 +781,9 @@ namespace nlmech
             << "\nend\n";
         write_file_atomically(context.output.file("optimized.prm"), prm.str());
       }
-    outcome.ran         = true;
-    outcome.frequencies = settings.frequencies;
+    outcome.ran = true;
     for (std::size_t c = 0; c < cases.size(); ++c)
-      outcome.states.push_back(design.state(c));
+      outcome.frequencies.push_back(design.omega(c)), outcome.states.push_back(design.state(c));
     return outcome;
   }
 } // namespace nlmech

@@ -17,7 +17,8 @@ namespace nlmech
                       "The coordinate whose half range is plotted and reported [-].");
     prm.declare_entry("Period frames", "24", Patterns::Integer(0),
                       "Frames of one period (period.pvd for meshes, mechanism_period.csv) at the first "
-                      "resonance peak, or at the end frequency without a peak; 0: none [-].");
+                      "resonance peak, or at the end frequency without a peak; with a Design, of the "
+                      "design's state at its first driving frequency; 0: none [-].");
     prm.leave_subsection();
   }
 

@@ -425,6 +425,12 @@ namespace nlmech
                                    " rad/s (an undamped or weakly damped resonance: the amplitude diverges)";
             break;
           }
+        if (settings.stop_after_first_peak && path.size() >= 2 && path[path.size() - 2].dA_ds > 0 &&
+            path.back().dA_ds <= 0)
+          {
+            response.stop_reason = "passed the first resonance peak";
+            break;
+          }
         if ((next.omega - settings.omega_start) * direction < -0.5 * w_ref)
           {
             response.stop_reason = "the curve turned back far below the start frequency";

@@ -254,8 +254,19 @@ namespace nlmech
     AssertThrow(!cases.empty() && cases.size() == states.size(),
                 dealii::ExcMessage("Design: one periodic state per driving frequency."));
     for (const auto &c : cases)
-      AssertThrow(c.omega > 0 && !c.objectives.empty(),
-                  dealii::ExcMessage("Design: every case needs a positive frequency and an objective."));
+      {
+        AssertThrow(c.omega > 0 && !c.objectives.empty(),
+                    dealii::ExcMessage("Design: every case needs a positive frequency and an objective."));
+        AssertThrow(!c.peak || (c.omega_low > 0 && c.omega_low < c.omega && c.omega < c.omega_high &&
+                                !c.peak_dofs.empty()),
+                    dealii::ExcMessage("Design: a resonance peak's case needs its amplitude's unknowns and "
+                                       "a frequency window around its start frequency " +
+                                       std::to_string(c.omega) + " rad/s."));
+        for (const auto &o : c.objectives)
+          AssertThrow(
+              c.peak || o->name() != "peak frequency",
+              dealii::ExcMessage("Design: the peak frequency objective needs a resonance peak's case."));
+      }
     start = values();
     for (std::size_t k = 0; k < parameters.size(); ++k)
       AssertThrow(start[Eigen::Index(k)] >= parameters[k]->lower &&
@@ -265,6 +276,12 @@ namespace nlmech
                                      std::to_string(parameters[k]->lower) + ", " +
                                      std::to_string(parameters[k]->upper) + "]."));
     hb = rebuild();
+    for (std::size_t c = 0; c < cases.size(); ++c)
+      if (cases[c].peak)
+        {
+          std::string why;
+          AssertThrow(locate_peak(c, &why), dealii::ExcMessage("Design: the initial design: " + why + "."));
+        }
   }
 
   Eigen::VectorXd HarmonicDesign::values() const
@@ -301,6 +318,8 @@ namespace nlmech
             return false;
           }
         states[c] = z;
+        if (cases[c].peak && !locate_peak(c, why))
+          return false;
       }
     return true;
   }
@@ -317,12 +336,13 @@ namespace nlmech
                 dealii::ExcMessage("Design: parameter vector of the wrong size or not finite."));
     const Eigen::VectorXd              last        = values();
     const std::vector<Eigen::VectorXd> last_states = states;
+    const std::vector<DesignCase>      last_cases  = cases; // peaks move
     apply(p);
     if (solve_all(why))
       return true;
     // A fold of some state over the parameters lies between: follow each case's solution curve
     // from the last solved design (states, parameters) to p.
-    states = last_states;
+    states = last_states, cases = last_cases;
     apply(last);
     return continue_to(p, why);
   }
@@ -333,6 +353,7 @@ namespace nlmech
                 dealii::ExcMessage("Design: parameter vector of the wrong size or not finite."));
     const Eigen::VectorXd              last        = values();
     const std::vector<Eigen::VectorXd> last_states = states;
+    const std::vector<DesignCase>      last_cases  = cases;
     ++continued_updates;
     bool ok = true;
     for (std::size_t c = 0; c < cases.size() && ok; ++c)
@@ -350,13 +371,17 @@ namespace nlmech
       {
         apply(p);
         hb = rebuild();
-        return true;
+        // Each peak's state followed at its last frequency; the peak itself has moved.
+        for (std::size_t c = 0; c < cases.size() && ok; ++c)
+          ok = !cases[c].peak || locate_peak(c, why);
+        if (ok)
+          return true;
       }
     ++failed_updates;
     last_failure = why ? *why : "";
     apply(last);
-    states = last_states;
-    hb     = rebuild();
+    states = last_states, cases = last_cases;
+    hb = rebuild();
     return false;
   }
 
@@ -369,19 +394,25 @@ namespace nlmech
     for (std::size_t c = 0; c < cases.size(); ++c)
       {
         Eigen::VectorXd df_dz = Eigen::VectorXd::Zero(states[c].size());
+        double          df_dw = 0;
         for (const auto &objective : cases[c].objectives)
           {
             Eigen::VectorXd part;
             f += objective->evaluate(*hb, states[c], cases[c].omega, gradient ? &part : nullptr);
             if (gradient)
-              df_dz += part;
+              df_dz += part, df_dw += objective->omega_derivative(*hb, states[c], cases[c].omega);
           }
-        if (gradient && df_dz.squaredNorm() > 0)
+        if (gradient && (df_dz.squaredNorm() > 0 || df_dw != 0))
           {
             // (2.4.5): df/dp = -lambda^T dh/dp with (dh/dz)^T lambda = df/dz.
             lu.factorize(hb->jacobian(states[c], cases[c].omega));
-            const Eigen::VectorXd lambda = lu.solve(df_dz, true);
-            g -= adjoint_parameter_products(*hb, parameters, states[c], cases[c].omega, lambda);
+            if (cases[c].peak)
+              g += peak_gradient(c, df_dz, df_dw);
+            else
+              {
+                const Eigen::VectorXd lambda = lu.solve(df_dz, true);
+                g -= adjoint_parameter_products(*hb, parameters, states[c], cases[c].omega, lambda);
+              }
           }
       }
     if (settings.change_penalty > 0)

@@ -2,6 +2,7 @@
 
 #include <nlmech/models/dynamics/elastic_solids.h>
 #include <nlmech/models/dynamics/mechanism.h>
+#include <nlmech/models/dynamics/spring_network.h>
 #include <nlmech/models/scaled_energy.h>
 #include <nlmech/solvers/hbm/design_parameters.h>
 
@@ -352,6 +353,64 @@ namespace nlmech
       std::size_t                             spring;
       unsigned int                            datum;
     };
+
+    /// The mechanism's rigid links with their lengths shared with (and changed by) the design.
+    struct SharedLinks
+    {
+      static constexpr std::size_t       n_dofs = SpringElements<2>::n_dofs;
+      std::shared_ptr<SpringElements<2>> links;
+      std::size_t                        n_elements() const { return links->n_elements(); }
+      std::array<std::size_t, n_dofs>    dofs(const std::size_t e) const { return links->dofs(e); }
+      template <typename S>
+      S energy(const std::array<S, n_dofs> &x, const std::size_t e) const
+      {
+        return links->energy(x, e);
+      }
+    };
+
+    /// The length L of one rigid link, E = k_l / 2 (|x_b - x_a| - L)^2: the link's force grows by
+    /// k_l n per unit of L (n the unit vector a -> b) and its stiffness damping by
+    /// beta k_l / |d| (I - n n^T)(v_b - v_a), both on b and with the opposite sign on a.
+    class LinkLength : public DesignParameter
+    {
+    public:
+      LinkLength(std::string name, std::shared_ptr<SpringElements<2>> links, std::size_t link, double lower,
+                 double upper)
+          : DesignParameter(std::move(name), lower, upper)
+          , links(std::move(links))
+          , link(link)
+      {
+      }
+      double value() const override { return links->springs[link].rest_length; }
+      void   set(const double L) override { links->springs[link].rest_length = L; }
+      bool   changes_force() const override { return true; }
+      void   add_force_change(const HarmonicBalance &hb, const Eigen::VectorXd &x, const Eigen::VectorXd &v,
+                              const double, const double, Eigen::VectorXd &df) const override
+      {
+        const Spring<2>      &s = links->springs[link];
+        const std::size_t     a = 2 * s.a, b = 2 * s.b;
+        const Eigen::Vector2d d(x[Eigen::Index(b)] - x[Eigen::Index(a)],
+                                x[Eigen::Index(b + 1)] - x[Eigen::Index(a + 1)]);
+        const double          length = d.norm();
+        if (!(length > 0))
+          return;
+        const Eigen::Vector2d n      = d / length;
+        Eigen::Vector2d       change = s.stiffness * n;
+        const double          beta   = hb.parameters().rayleigh_stiffness;
+        if (beta != 0 && v.size() > 0)
+          {
+            const Eigen::Vector2d dv(v[Eigen::Index(b)] - v[Eigen::Index(a)],
+                                     v[Eigen::Index(b + 1)] - v[Eigen::Index(a + 1)]);
+            change += beta * s.stiffness / length * (dv - n * n.dot(dv));
+          }
+        for (Eigen::Index i = 0; i < 2; ++i)
+          df[Eigen::Index(b) + i] += change[i], df[Eigen::Index(a) + i] -= change[i];
+      }
+
+    private:
+      std::shared_ptr<SpringElements<2>> links;
+      std::size_t                        link;
+    };
   } // namespace
 
   std::shared_ptr<DesignParameter> make_spring_parameter(std::string name, Model &model,
@@ -382,6 +441,35 @@ namespace nlmech
         datum < 4 || lower >= 0,
         dealii::ExcMessage("Design: a spring's rest length and stiffness bounds must not be negative."));
     auto p = std::make_shared<SpringParameter>(std::move(name), shared, spring, datum, lower, upper);
+    p->set(initial);
+    return p;
+  }
+
+  std::shared_ptr<DesignParameter> make_link_length_parameter(std::string name, Model &model,
+                                                              const std::size_t link, const double initial,
+                                                              const double lower, const double upper)
+  {
+    AssertThrow(lower > 0, dealii::ExcMessage("Design: a link length's lower bound must be positive."));
+    // The rigid links' term, replaced on first use by one whose lengths the parameters share.
+    std::shared_ptr<SpringElements<2>> shared;
+    for (std::size_t t = 0; t < model.terms().size() && !shared; ++t)
+      if (const auto *d = dynamic_cast<const ElementEnergyTerm<SharedLinks> *>(model.terms()[t].get()))
+        shared = d->elements().links;
+      else if (const auto *a = dynamic_cast<const SpringTerm<2> *>(model.terms()[t].get());
+               a && a->name().rfind("rigid links", 0) == 0)
+        {
+          shared = std::make_shared<SpringElements<2>>(a->elements());
+          replace_term(
+              model, t,
+              std::make_shared<ElementEnergyTerm<SharedLinks>>(a->name() + " (design)", SharedLinks{shared}));
+        }
+    AssertThrow(shared, dealii::ExcMessage("Design: link length parameters need a mechanism's rigid links."));
+    AssertThrow(link < shared->n_elements(),
+                dealii::ExcMessage("Design: no link " + std::to_string(link) + " (the mechanism has " +
+                                   std::to_string(shared->n_elements()) + ")."));
+    AssertThrow(!shared->springs[link].axial && shared->springs[link].cubic == 0,
+                dealii::ExcMessage("Design: the link is not a plain length penalty."));
+    auto p = std::make_shared<LinkLength>(std::move(name), shared, link, lower, upper);
     p->set(initial);
     return p;
   }

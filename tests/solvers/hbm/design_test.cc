@@ -335,8 +335,9 @@ TEST(HarmonicDesign, ParameterContinuationFollowsTheStateAroundFolds)
 TEST(HarmonicDesign, MechanismSpringAndWeightGradientsMatchCentralDifferences)
 {
   // A shaken planar leg under gravity (models/dynamics/mechanism.h) with stiffness damping: a
-  // spring's stiffness, another's rest length, attachment coordinates on both ends' links and an
-  // added joint mass with its weight; amplitude and trajectory of the toe.
+  // spring's stiffness, another's rest length, attachment coordinates on both ends' links, an
+  // added joint mass with its weight and two link lengths (one changed from the built geometry);
+  // amplitude and trajectory of the toe.
   MechanismDescription d;
   d.joints         = {{{0, 0}}, {{-0.06, 0}}, {{0.03, -0.12}}, {{-0.02, -0.24}}, {{0.06, -0.27}}};
   d.masses         = {0.01, 0.01, 0.03, 0.02, 0.01};
@@ -364,6 +365,8 @@ TEST(HarmonicDesign, MechanismSpringAndWeightGradientsMatchCentralDifferences)
       p.push_back(make_spring_parameter("u_b_0", s->model, 0, 2, 0.3, 0.0, 1.0));
       p.push_back(make_spring_parameter("w_a_1", s->model, 1, 1, 0.05, -0.5, 0.5));
       p.push_back(make_point_mass_parameter("mass", s->model, {6, 7}, 0.01, 0.0, 0.1, gravity));
+      p.push_back(make_link_length_parameter("L_link_2", s->model, 2, 0.14, 0.05, 0.3)); // 0.130 built
+      p.push_back(make_link_length_parameter("L_link_3", s->model, 3, 0.0854, 0.05, 0.3));
       {
         Model held = s->model; // the static state under gravity, drives at their centres
         for (const auto &dr : s->drives)
@@ -386,4 +389,115 @@ TEST(HarmonicDesign, MechanismSpringAndWeightGradientsMatchCentralDifferences)
       std::printf("  largest relative difference %.2e\n", error);
       EXPECT_LT(error, 1e-6);
     }
+}
+
+namespace
+{
+  /// A peak case of the Duffing's amplitude near `omega`, in [low, high].
+  DesignCase peak_case(double omega, double low, double high)
+  {
+    DesignCase c;
+    c.omega = omega, c.peak = true, c.omega_low = low, c.omega_high = high, c.peak_dofs = {1};
+    return c;
+  }
+} // namespace
+
+TEST(HarmonicDesign, ResonancePeakGradientsMatchCentralDifferences)
+{
+  // The hardening Duffing's resonance peak as the design case: its height (the envelope theorem:
+  // the fixed-frequency adjoint at the peak) and its frequency (the extended system's adjoint with
+  // the second derivatives along the curve), each against central differences of the objective
+  // with the peak found again at p +- h. Parameters of every kind the oscillator has. The peak is
+  // also checked against the frequency-response curve's own refined peak (a second method).
+  for (const int kind : {0, 1, 2})
+    {
+      auto s                 = duffing(0.5);
+      s->forces[0].amplitude = 0.05; // hardening: the peak lies above sqrt(k / m) = 0.913 rad/s
+      std::vector<std::shared_ptr<DesignParameter>> p;
+      p.push_back(make_point_mass_parameter("mass", s->model, {1}, 0.2, 0.0, 2.0));
+      p.push_back(make_force_amplitude_parameter("force", s->forces, {0}, 0.1, 3.0));
+      p.push_back(make_term_modulus_parameter("stiffness", s->model, 0, 1.0, 0.1, 10.0));
+      DesignCase c = peak_case(0.93, 0.6, 1.6);
+      if (kind != 1)
+        c.objectives.push_back(std::make_shared<AmplitudeObjective>(std::vector<std::size_t>{1}, 10.0));
+      if (kind != 0)
+        c.objectives.push_back(std::make_shared<PeakFrequencyObjective>(1.5));
+      const Eigen::VectorXd z0 = s->solved(0.93);
+      DesignSettings        ds;
+      ds.solve.relative_tolerance = 1e-13;
+      HarmonicDesign design(s->rebuild(), p, {c}, {z0}, ds);
+      const double   w = design.omega(0);
+      std::printf("peak case %d: w* = %.10f, A* = %.10f, %u searches, %u points\n", kind, w,
+                  design.balance().amplitude(design.state(0), w, {1}), design.peak_searches,
+                  design.peak_search_points);
+      EXPECT_GT(w, 0.93);
+      const double err = gradient_error(design, 1e-4);
+      std::printf("  worst relative difference %.3e\n", err);
+      EXPECT_LT(err, 1e-6);
+
+      ContinuationSettings cs;
+      cs.omega_start = 0.6, cs.omega_end = 1.6, cs.tracked_dofs = {1}, cs.stability = StabilityMethod::none;
+      cs.relative_tolerance       = 1e-13;
+      const HarmonicBalance  &hb  = design.balance();
+      const FrequencyResponse frc = trace_frequency_response(hb, hb.static_coefficients(s->rest), cs);
+      ASSERT_FALSE(frc.peaks.empty());
+      std::printf("  the curve's peak: w = %.10f, A = %.10f\n", frc.peaks.front().omega,
+                  frc.peaks.front().amplitude);
+      EXPECT_NEAR(frc.peaks.front().omega, design.omega(0), 1e-8);
+      EXPECT_NEAR(frc.peaks.front().amplitude, hb.amplitude(design.state(0), design.omega(0), {1}),
+                  1e-9 * frc.peaks.front().amplitude);
+    }
+}
+
+TEST(HarmonicDesign, PeakPlacedAtATargetFrequencyHasTheClosedFormMass)
+{
+  // m x'' + a m x' + k x = F cos(w t): X(w) = F / sqrt((k - m w^2)^2 + (a m w)^2) peaks at
+  // w*^2 = k / m - a^2 / 2, so the peak lies at w_t for m = k / (w_t^2 + a^2 / 2). L-BFGS moves an
+  // added mass until the peak frequency objective (w* - w_t)^2 vanishes.
+  auto s                                          = duffing(0.0);
+  s->model                                        = make_duffing_model(0.2, 1.0, 0.0);
+  const double                                  a = 0.1, k = 1.0, target = 1.3;
+  std::vector<std::shared_ptr<DesignParameter>> p = {
+      make_point_mass_parameter("mass", s->model, {1}, 0.1, 0.0, 2.0)};
+  DesignCase c = peak_case(1.6, 0.5, 3.0); // the peak of m = 0.3: 1.825 rad/s
+  c.objectives.push_back(std::make_shared<PeakFrequencyObjective>(target));
+  DesignSettings ds;
+  ds.solve.relative_tolerance = 1e-13;
+  HarmonicDesign design(s->rebuild(), p, {c}, {s->solved(1.6)}, ds);
+  const double   w0 = design.omega(0);
+  EXPECT_NEAR(w0, std::sqrt(k / 0.3 - a * a / 2), 1e-9);
+  OptimizationSettings os;
+  os.relative_tolerance          = 1e-14;
+  const OptimizationResult r     = optimize_design(design, os);
+  const double             exact = k / (target * target + a * a / 2) - 0.2;
+  std::printf("peak at %.10f rad/s -> %.10f; mass %.10f (closed form %.10f), %u evaluations, %s\n", w0,
+              design.omega(0), design.values()[0], exact, r.evaluations, r.stop_reason.c_str());
+  EXPECT_NEAR(design.omega(0), target, 1e-7);
+  EXPECT_NEAR(design.values()[0], exact, 1e-6 * exact);
+}
+
+TEST(HarmonicDesign, RefusesAPeakOutsideItsWindow)
+{
+  // The linear oscillator's peak lies at 1.825 rad/s: a window [0.5, 1.5] holds none.
+  auto s                                          = duffing(0.0);
+  s->model                                        = make_duffing_model(0.2, 1.0, 0.0);
+  std::vector<std::shared_ptr<DesignParameter>> p = {
+      make_point_mass_parameter("mass", s->model, {1}, 0.1, 0.0, 2.0)};
+  DesignCase c = peak_case(1.0, 0.5, 1.5);
+  c.objectives.push_back(std::make_shared<PeakFrequencyObjective>(1.0));
+  try
+    {
+      HarmonicDesign design(s->rebuild(), p, {c}, {s->solved(1.0)});
+      ADD_FAILURE() << "no error";
+    }
+  catch (const std::exception &e)
+    {
+      std::printf("%s\n", e.what());
+      EXPECT_NE(std::string(e.what()).find("no resonance peak"), std::string::npos);
+    }
+  // The peak frequency objective belongs to a peak's case.
+  DesignCase fixed;
+  fixed.omega = 1.0;
+  fixed.objectives.push_back(std::make_shared<PeakFrequencyObjective>(1.0));
+  EXPECT_THROW(HarmonicDesign(s->rebuild(), p, {fixed}, {s->solved(1.0)}), std::exception);
 }

@@ -30,11 +30,13 @@ namespace nlmech
 
   struct DesignStudySettings
   {
-    std::string               mode = "off"; // off | apply | explore | optimize
-    std::vector<std::string>  parameters;
-    std::vector<double>       frequencies;
-    std::string               objective        = "amplitude";
-    double                    target_amplitude = 1;
+    std::string              mode = "off"; // off | apply | explore | optimize
+    std::vector<std::string> parameters;
+    std::vector<double>      frequencies;
+    std::string              objective        = "amplitude";
+    double                   target_amplitude = 1;
+    /// peak amplitude | peak frequency: the resonance peak near each frequency, inside this window.
+    double                    peak_low = 0, peak_high = 0, target_frequency = 0;
     std::vector<unsigned int> axes; // of the tracked point; empty: all
     /// The points the objective follows (empty: the scene's tracked point), "x, y[, z]" each.
     std::vector<std::string> objective_points;
@@ -49,6 +51,7 @@ namespace nlmech
     static void declare_parameters(dealii::ParameterHandler &prm);
     void        parse_parameters(dealii::ParameterHandler &prm);
     bool        enabled() const { return mode != "off"; }
+    bool        peak() const { return objective.rfind("peak", 0) == 0; }
   };
 
   /// What a design run found, for the scene's curve before and after.

@@ -78,6 +78,11 @@ namespace nlmech
     virtual std::string name() const                              = 0;
     virtual double      evaluate(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega,
                                  Eigen::VectorXd *gradient) const = 0;
+    /// df/dw at fixed z: only where the frequency is an unknown (a resonance peak's case).
+    virtual double omega_derivative(const HarmonicBalance &, const Eigen::VectorXd &, double) const
+    {
+      return 0;
+    }
   };
 
   /// (A_k(z) - A_target)^2 (2.4.8) with A_k the amplitude (2.3.14) of the chosen coordinates of a
@@ -121,11 +126,40 @@ namespace nlmech
     double                   alpha;
   };
 
+  /// (w* - w_target)^2 for the frequency w* of a resonance peak (a case with `peak` set): the
+  /// peak placed at a target frequency.
+  class PeakFrequencyObjective : public DesignObjective
+  {
+  public:
+    explicit PeakFrequencyObjective(double target);
+    std::string name() const override { return "peak frequency"; }
+    double      evaluate(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega,
+                         Eigen::VectorXd *gradient) const override;
+    double omega_derivative(const HarmonicBalance &hb, const Eigen::VectorXd &z, double omega) const override;
+
+  private:
+    double target;
+  };
+
   /// A driving frequency with its objectives (several frequencies: several cases).
+  ///
+  /// With `peak` set the case is a resonance peak instead: the state where the amplitude (2.3.14)
+  /// of `peak_dofs` is largest over the frequency near `omega`, inside [omega_low, omega_high].
+  /// `omega` then follows the peak: after every parameter change the peak is found again by a
+  /// local frequency-response curve from the last one, uphill, refined to dA/ds = 0 exactly.
+  /// The objectives' gradient is the adjoint of the peak's extended system
+  ///   h(z, w, p) = 0,  h_z phi + h_w = 0,  grad A(z) . phi = 0     (phi = dz/dw on the curve),
+  /// whose transposed solve needs three solves with dh/dz's factorisation and, when an objective
+  /// depends on w* (or on another point's motion), the directional derivatives of dh/dz, dh/dw
+  /// and dh/dp along the curve's tangent (phi, 1), by central differences of the exact ones.
+  /// Without them (the peak's own amplitude) the envelope theorem holds: the fixed-w adjoint.
   struct DesignCase
   {
     double                                              omega = 0;
     std::vector<std::shared_ptr<const DesignObjective>> objectives;
+    bool                                                peak      = false;
+    double                                              omega_low = 0, omega_high = 0;
+    std::vector<std::size_t>                            peak_dofs;
   };
 
   struct DesignSettings
@@ -136,6 +170,8 @@ namespace nlmech
     /// Parameter continuation when a re-solve from the last state fails: pseudo-arclength steps
     /// (at most this many) along the segment from the last solved parameters to the new ones.
     unsigned int continuation_steps = 200;
+    /// Largest step of the local frequency-response curve that finds a peak again (scaled).
+    double peak_search_step = 0.05;
   };
 
   /// The design problem: parameters, cases and their periodic states. `rebuild` makes the
@@ -156,7 +192,9 @@ namespace nlmech
     Eigen::VectorXd                                      values() const;
     const Eigen::VectorXd                               &initial_values() const { return start; }
     const Eigen::VectorXd                               &state(std::size_t c) const { return states[c]; }
-    const HarmonicBalance                               &balance() const { return *hb; }
+    /// Case c's frequency: its driving frequency, or its peak's frequency for the current design.
+    double                 omega(std::size_t c) const { return cases[c].omega; }
+    const HarmonicBalance &balance() const { return *hb; }
 
     /// Sets the parameters and re-solves every case from its last state; where that fails (a fold
     /// of the state over the parameters lies between), follows the solution curve of each case
@@ -178,6 +216,7 @@ namespace nlmech
     /// updates that needed the parameter continuation, its steps, and updates that failed.
     unsigned int newton_iterations = 0, gradients = 0, failed_updates = 0;
     unsigned int continued_updates = 0, continuation_steps = 0, continuation_folds = 0;
+    unsigned int peak_searches = 0, peak_search_points = 0;
     std::string  last_failure; // why the last failed update failed
     double       gradient_seconds = 0, solve_seconds = 0;
 
@@ -190,6 +229,12 @@ namespace nlmech
     /// `to` and states[c] set on success.
     bool continue_case(std::size_t c, const Eigen::VectorXd &from, const Eigen::VectorXd &to,
                        std::string *why);
+    /// A peak case's peak for the current parameters, from its state (solved at its last peak
+    /// frequency): sets omega and the state (design_peak.cc).
+    bool locate_peak(std::size_t c, std::string *why);
+    /// d(objectives of peak case c)/dp by the adjoint of the peak's extended system; df_dz and
+    /// df_dw the objectives' derivatives at the peak, `lu` factorised at it (design_peak.cc).
+    Eigen::VectorXd peak_gradient(std::size_t c, const Eigen::VectorXd &df_dz, double df_dw);
 
     Rebuild                                       rebuild;
     std::vector<std::shared_ptr<DesignParameter>> parameters;

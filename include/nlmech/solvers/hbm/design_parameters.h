@@ -1,7 +1,7 @@
 #pragma once
 // The kinds of harmonic-balance design parameter (solvers/hbm/design.h), each on the parts of a
 // structure it changes: an extra point mass on a vertex's unknowns; a mechanism spring's stiffness,
-// rest length or attachment; the amplitude factor and the
+// rest length or attachment, and a rigid link's length; the amplitude factor and the
 // phase of point forces; the amplitude factor of the drives (penalty or prescribed); the Young's
 // modulus of a whole energy term (a layer, a material group: the term's energy is linear in it at
 // fixed Poisson's ratio) or of a group of elements within a plane-triangle term (a modulus per
@@ -45,6 +45,13 @@ namespace nlmech
   std::shared_ptr<DesignParameter> make_spring_parameter(std::string name, Model &model, std::size_t spring,
                                                          unsigned int datum, double initial, double lower,
                                                          double upper);
+
+  /// The length [m] of rigid link `link` of a mechanism (its length penalty's rest length): the
+  /// links' term is replaced by one whose lengths the parameters share. The joints' rest angles
+  /// stay; the periodic state's mean finds the new geometry.
+  std::shared_ptr<DesignParameter> make_link_length_parameter(std::string name, Model &model,
+                                                              std::size_t link, double initial, double lower,
+                                                              double upper);
 
   /// The Young's modulus E of the model's energy term `term` (initially `modulus`): the term is
   /// replaced by itself times E / modulus.

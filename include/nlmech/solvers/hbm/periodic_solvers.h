@@ -123,6 +123,9 @@ namespace nlmech
     double                   max_amplitude = 0; // stop beyond this (tracked dofs' half range) [m]; 0: none
     std::vector<std::size_t> tracked_dofs;      // amplitude (2.3.14) of these unknowns
     StabilityMethod          stability = StabilityMethod::hill;
+    /// Stop once the curve has passed its first resonance peak (located exactly as every peak):
+    /// the local search of a design's peak (design.h).
+    bool stop_after_first_peak = false;
     /// Called after every point with (fraction of the frequency range done).
     std::function<void(double)> progress;
 
