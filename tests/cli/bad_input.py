@@ -87,6 +87,10 @@ def mesh_cases(source):
 
 
 def cases(source):
+    # A two-link leg with one spring between its links, its body shaken (for mechanism parameters).
+    leg = ("subsection Oscillator\n  set Model = mechanism\nend\nsubsection Mechanism\n"
+           "  set Joints = 0, 0, 0.01; -0.06, 0, 0.01; 0.03, -0.12, 0.03\n  set Links = 0, 1; 0, 2\n"
+           "  set Springs = 0, 1, 0, 1, 0.5, 0, 50, -1\n  set Driven joints = 0, 1\n  set Tracked joint = 2\nend\nsubsection Structure\n  set Tracked direction = x\nend\n")
     data = os.path.join(source, "tests", "data")
     return mesh_cases(source) | {
         "malformed-prm": (CANTILEVER + "subsection Material\n  sett Young's modulus 3\nend\n", "Line <6>"),
@@ -131,6 +135,30 @@ def cases(source):
         "hbm-design-short-target": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 0, 1\n  set Frequencies = 1\n"
                                            "  set Objective = trajectory\n  set Target trajectory = target.csv\n"),
                                     "needs at least 2 N_H + 1", {"target.csv": "t,x\n0,1\n0.1,2\n0.2,1\n"}),
+        "hbm-design-spring-without-mechanism": (design("  set Parameters = spring stiffness 0 = 10 in 1, 20\n"
+                                                       "  set Frequencies = 1\n"),
+                                                "spring parameters need a mechanism"),
+        "hbm-design-bad-spring-key": (design("  set Parameters = spring attachment 0 u_c = 0.5 in 0, 1\n"
+                                             "  set Frequencies = 20\n", leg), "u_a, w_a, u_b or w_b"),
+        "hbm-design-missing-spring": (design("  set Parameters = spring stiffness 3 = 50 in 10, 90\n"
+                                             "  set Frequencies = 20\n", leg), "no spring 3"),
+        "hbm-design-missing-link": (design("  set Parameters = link length 7 = 0.1 in 0.05, 0.2\n"
+                                           "  set Frequencies = 20\n", leg), "no link 7"),
+        "hbm-design-link-length-zero-bound": (design("  set Parameters = link length 0 = 0.06 in 0, 0.2\n"
+                                                     "  set Frequencies = 20\n", leg), "lower bound must be positive"),
+        "hbm-design-peak-without-window": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 0, 1\n"
+                                                  "  set Frequencies = 1\n  set Objective = peak amplitude\n"),
+                                           "needs Peak window = LOW, HIGH"),
+        "hbm-design-peak-outside-window": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 0, 1\n"
+                                                  "  set Frequencies = 3\n  set Objective = peak amplitude\n"
+                                                  "  set Peak window = 0.5, 2\n"), "lies outside the Peak window"),
+        "hbm-design-peak-without-target": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 0, 1\n"
+                                                  "  set Frequencies = 1\n  set Objective = peak frequency\n"
+                                                  "  set Peak window = 0.5, 2\n"), "needs a positive Target frequency"),
+        "hbm-design-no-peak-in-window": (design("  set Parameters = mass at 0, 0, 0 = 0.1 in 0, 1\n"
+                                                "  set Frequencies = 0.6\n  set Objective = peak frequency\n"
+                                                "  set Peak window = 0.5, 0.7\n  set Target frequency = 0.6\n"),
+                                         "no resonance peak in"),
         "hbm-rods-without-polylines": (hbm("") + "subsection Oscillator\n  set Model = rods\nend\n",
                                        "Rods: Polylines are needed"),
         "sheet-compression-limit": (sheet("subsection Strain limits\n  set Limit = 1 - 0.1 * cos(alpha)\nend\n"),
