@@ -271,6 +271,52 @@ namespace nlmech
       return x; // too few samples: TrajectoryObjective refuses it with the count it needs
     }
 
+    /// An element moduli CSV: a header, then `element,modulus` with elements 0, 1, 2, ... in order.
+    std::vector<double> read_element_moduli(const std::string &file)
+    {
+      std::ifstream in(file);
+      AssertThrow(in, ExcMessage("Design: cannot read the element moduli <" + file + ">."));
+      std::string         line;
+      std::vector<double> moduli;
+      std::getline(in, line);
+      unsigned int number = 1;
+      while (std::getline(in, line))
+        {
+          ++number;
+          if (trim(line).empty())
+            continue;
+          const auto row = parse_number_list(line, "Design: line " + std::to_string(number) +
+                                                       " of the element moduli <" + file + ">");
+          AssertThrow(
+              row.size() == 2 && row[0] == double(moduli.size()) && std::isfinite(row[1]) && row[1] > 0,
+              ExcMessage("Design: line " + std::to_string(number) + " of the element moduli <" + file +
+                         "> is not `" + std::to_string(moduli.size()) + ",MODULUS` with MODULUS > 0."));
+          moduli.push_back(row[1]);
+        }
+      return moduli;
+    }
+
+    /// Sets the element modulus parameters (E_element_*, in order) to `moduli`, within their bounds.
+    void set_element_moduli(const std::vector<std::shared_ptr<DesignParameter>> &parameters,
+                            const std::vector<double>                           &moduli)
+    {
+      std::size_t e = 0;
+      for (const auto &p : parameters)
+        if (p->name().rfind("E_element", 0) == 0)
+          {
+            AssertThrow(e < moduli.size(),
+                        ExcMessage("Design: the element moduli file has " + std::to_string(moduli.size()) +
+                                   " rows, fewer than the structure's elements."));
+            AssertThrow(moduli[e] >= p->lower && moduli[e] <= p->upper,
+                        ExcMessage("Design: element " + std::to_string(e) + "'s modulus " +
+                                   std::to_string(moduli[e]) + " lies outside its bounds."));
+            p->set(moduli[e++]);
+          }
+      AssertThrow(e == moduli.size(),
+                  ExcMessage("Design: the element moduli file has " + std::to_string(moduli.size()) +
+                             " rows for " + std::to_string(e) + " elements with a modulus parameter."));
+    }
+
     /// Writes `text` with every value that names an existing file relative to `directory` made absolute.
     std::string absolute_paths(const std::string &text, const std::string &directory)
     {
@@ -312,6 +358,9 @@ namespace nlmech
         "(every plane element, bounds as factors) [Pa]; mechanisms: spring stiffness S [N/m], spring rest "
         "length S [m], spring attachment S u_a|w_a|u_b|w_b (link-frame coordinates of spring S, 0-based) "
         "[-]; link length L (rigid link L's length, 0-based) [m].");
+    prm.declare_entry("Element moduli", "", Patterns::Anything(),
+                      "element modulus: a CSV `element,modulus` (header, one row per element, as "
+                      "design_element_moduli.csv) with the initial moduli; empty: the structure's own [Pa].");
     prm.declare_entry("Frequencies", "", Patterns::Anything(),
                       "Driving frequencies of the objective [rad/s].");
     prm.declare_entry(
@@ -381,6 +430,7 @@ namespace nlmech
       if (!trim(p).empty())
         objective_points.push_back(p);
     target_file     = prm.get("Target trajectory");
+    moduli_file     = prm.get("Element moduli");
     phases          = unsigned(prm.get_integer("Phase offsets"));
     sharpness       = prm.get_double("Smooth minimum sharpness");
     change_penalty  = prm.get_double("Change penalty");
@@ -418,6 +468,8 @@ namespace nlmech
       }
     if (!target_file.empty())
       target_file = resolve_input_path(target_file, current_parameter_directory());
+    if (!moduli_file.empty())
+      moduli_file = resolve_input_path(moduli_file, current_parameter_directory());
   }
 
   DesignOutcome run_design_study(RunContext &context, PeriodicStructure &s,
@@ -431,6 +483,8 @@ namespace nlmech
     for (const auto &p : settings.parameters)
       specs.push_back(parse_spec(p));
     auto parameters = make_parameters(s, specs);
+    if (!settings.moduli_file.empty())
+      set_element_moduli(parameters, read_element_moduli(settings.moduli_file));
     if (s.gravity.size() > 0)
       {
         // The initial values' added weights move the static state the periodic states start from.
@@ -760,15 +814,18 @@ namespace nlmech
             << " (every parameter; Design: Mode = apply with the values found).\n"
             << absolute_paths(prm_text, source_directory) << "\nsubsection Design\n  set Mode = apply\n"
             << "  set Parameters = ";
-        std::size_t k = 0;
+        std::size_t        k = 0;
+        std::ostringstream moduli;
         for (std::size_t i = 0; i < specs.size(); ++i)
           {
             const auto &sp = specs[i];
             if (sp.kind == "element modulus")
               {
-                // One parameter per element cannot be one spec: the values go with the mode 'apply'
-                // only as far as the spec can say (the layer moduli); record them in the CSV.
+                // One parameter per element: the spec stays, the values go to a CSV it reads.
                 prm << (i ? "; " : "") << sp.text;
+                moduli << "element,modulus\n";
+                for (std::size_t e = 0; e < s.element_moduli.size(); ++e)
+                  moduli << e << "," << json_number(p[Eigen::Index(k + e)]) << "\n";
                 k += s.element_moduli.size();
                 continue;
               }
@@ -777,8 +834,15 @@ namespace nlmech
                 << json_number(sp.upper);
             ++k;
           }
-        prm << "\nend\n\nsubsection Output\n  set Output directory = " << context.output.file("optimized")
-            << "\nend\n";
+        if (!moduli.str().empty())
+          {
+            write_file_atomically(context.output.file("design_element_moduli.csv"), moduli.str());
+            prm << "\n  set Element moduli = "
+                << (std::filesystem::absolute(context.output.final_path()) / "design_element_moduli.csv")
+                       .string();
+          }
+        prm << "\nend\n\nsubsection Output\n  set Output directory = "
+            << (std::filesystem::absolute(context.output.final_path()) / "optimized").string() << "\nend\n";
         write_file_atomically(context.output.file("optimized.prm"), prm.str());
       }
     outcome.ran = true;

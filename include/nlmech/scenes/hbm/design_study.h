@@ -41,6 +41,7 @@ namespace nlmech
     /// The points the objective follows (empty: the scene's tracked point), "x, y[, z]" each.
     std::vector<std::string> objective_points;
     std::string              target_file;
+    std::string              moduli_file; // Element moduli: initial moduli per element (CSV)
     unsigned int             phases    = 64;
     double                   sharpness = 50, change_penalty = 0;
     unsigned int             max_evaluations = 200;
