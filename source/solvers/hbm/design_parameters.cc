@@ -282,19 +282,23 @@ namespace nlmech
       double                             modulus;
     };
 
-    /// The mechanism's link springs with their data shared with (and changed by) the design.
-    struct SharedSprings
+    /// A mechanism's elements (link springs, rigid links) with their data shared with (and changed
+    /// by) the design parameters.
+    template <typename Elements>
+    struct SharedElements
     {
-      static constexpr std::size_t            n_dofs = AttachedSpringElements::n_dofs;
-      std::shared_ptr<AttachedSpringElements> springs;
-      std::size_t                             n_elements() const { return springs->n_elements(); }
-      std::array<std::size_t, n_dofs>         dofs(const std::size_t e) const { return springs->dofs(e); }
+      static constexpr std::size_t    n_dofs = Elements::n_dofs;
+      std::shared_ptr<Elements>       data;
+      std::size_t                     n_elements() const { return data->n_elements(); }
+      std::array<std::size_t, n_dofs> dofs(const std::size_t e) const { return data->dofs(e); }
       template <typename S>
       S energy(const std::array<S, n_dofs> &x, const std::size_t e) const
       {
-        return springs->energy(x, e);
+        return data->energy(x, e);
       }
     };
+    using SharedSprings = SharedElements<AttachedSpringElements>;
+    using SharedLinks   = SharedElements<SpringElements<2>>;
 
     /// One datum of one link spring: an attachment coordinate (0-3: u_a, w_a, u_b, w_b), the rest
     /// length (4) or the stiffness (5).
@@ -354,20 +358,6 @@ namespace nlmech
       unsigned int                            datum;
     };
 
-    /// The mechanism's rigid links with their lengths shared with (and changed by) the design.
-    struct SharedLinks
-    {
-      static constexpr std::size_t       n_dofs = SpringElements<2>::n_dofs;
-      std::shared_ptr<SpringElements<2>> links;
-      std::size_t                        n_elements() const { return links->n_elements(); }
-      std::array<std::size_t, n_dofs>    dofs(const std::size_t e) const { return links->dofs(e); }
-      template <typename S>
-      S energy(const std::array<S, n_dofs> &x, const std::size_t e) const
-      {
-        return links->energy(x, e);
-      }
-    };
-
     /// The length L of one rigid link, E = k_l / 2 (|x_b - x_a| - L)^2: the link's force grows by
     /// k_l n per unit of L (n the unit vector a -> b) and its stiffness damping by
     /// beta k_l / |d| (I - n n^T)(v_b - v_a), both on b and with the opposite sign on a.
@@ -424,7 +414,7 @@ namespace nlmech
     std::shared_ptr<AttachedSpringElements> shared;
     for (std::size_t t = 0; t < model.terms().size() && !shared; ++t)
       if (const auto *d = dynamic_cast<const ElementEnergyTerm<SharedSprings> *>(model.terms()[t].get()))
-        shared = d->elements().springs;
+        shared = d->elements().data;
       else if (const auto *a =
                    dynamic_cast<const ElementEnergyTerm<AttachedSpringElements> *>(model.terms()[t].get()))
         {
@@ -454,7 +444,7 @@ namespace nlmech
     std::shared_ptr<SpringElements<2>> shared;
     for (std::size_t t = 0; t < model.terms().size() && !shared; ++t)
       if (const auto *d = dynamic_cast<const ElementEnergyTerm<SharedLinks> *>(model.terms()[t].get()))
-        shared = d->elements().links;
+        shared = d->elements().data;
       else if (const auto *a = dynamic_cast<const SpringTerm<2> *>(model.terms()[t].get());
                a && a->name().rfind("rigid links", 0) == 0)
         {

@@ -113,9 +113,8 @@ namespace nlmech
     const Eigen::VectorXd  hw        = hb->d_residual_d_omega(z, w);
     const Eigen::VectorXd  alpha     = lu.solve(df_dz, true);
     const double           numerator = hw.dot(alpha) - df_dw;
-    Eigen::VectorXd        g         = -adjoint_parameter_products(*hb, parameters, z, w, alpha);
     if (std::abs(numerator) <= 1e-14 * (hw.norm() * alpha.norm() + std::abs(df_dw)))
-      return g;
+      return -adjoint_parameter_products(*hb, parameters, z, w, alpha); // Lambda_3 = 0
 
     Eigen::VectorXd gA;
     hb->amplitude(z, w, dc.peak_dofs, &gA);
@@ -138,8 +137,8 @@ namespace nlmech
     AssertThrow(std::isfinite(denominator) && denominator != 0,
                 dealii::ExcMessage("Design: the resonance peak at w = " + std::to_string(w) +
                                    " rad/s is degenerate (d^2A/dw^2 = 0): its frequency has no derivative."));
-    const double lambda3 = numerator / denominator;
-    g                    = -adjoint_parameter_products(*hb, parameters, z, w, alpha - lambda3 * beta);
+    const double    lambda3 = numerator / denominator;
+    Eigen::VectorXd g       = -adjoint_parameter_products(*hb, parameters, z, w, alpha - lambda3 * beta);
     g += lambda3 *
          (adjoint_parameter_products(*hb, parameters, zp, wp, b) -
           adjoint_parameter_products(*hb, parameters, zm, wm, b)) /
