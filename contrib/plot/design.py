@@ -104,7 +104,7 @@ def curves(before, after, out, w):
     ax.plot([float(r["omega"]) for r in after], [float(r["amplitude_A"]) for r in after], "C1-",
             label="design found")
     if w is not None:
-        ax.axvline(w, color="k", ls="--", lw=1, label="driving frequency")
+        ax.axvline(w, color="k", ls="--", lw=1, label="design frequency (driving or peak)")
     ax.set_xlabel("w [rad/s]")
     ax.set_ylabel("amplitude A (2.3.14) [m]")
     ax.set_title("frequency response before and after design")

@@ -144,7 +144,7 @@ namespace nlmech
         if (settings.trace_curve)
           {
             TimerOutput::Scope t(context.timer, "frequency response (HBM continuation)");
-            frc = trace_frequency_response(hb, hb.static_coefficients(s.rest), continuation);
+            frc = trace_frequency_response(hb, start_coefficients(hb, s), continuation);
           }
         // Linear modal analysis at the static state, at the same frequencies.
         std::vector<std::pair<double, double>> lma; // (amplitude A, half range) per point
@@ -212,7 +212,11 @@ namespace nlmech
       /// which leaves `s` at the design found.
       DesignOutcome run_design(RunContext &context, PeriodicStructure &s)
       {
-        if (settings.trace_curve && design.initial_curve)
+        // The initial design is the structure with the parameters' initial values on it (an added
+        // mass of the file's initial value, not none).
+        const auto initial_curve = [&](const PeriodicStructure &s) {
+          if (!settings.trace_curve || !design.initial_curve)
+            return;
           {
             TimerOutput::Scope    t(context.timer, "frequency response of the initial design");
             const HarmonicBalance hb(s.model, settings.harmonic_balance, s.forces, s.drives);
@@ -220,7 +224,7 @@ namespace nlmech
             cs.tracked_dofs             = s.tracked_dofs;
             cs.stability                = StabilityMethod::none;
             cs.progress                 = {};
-            const FrequencyResponse frc = trace_frequency_response(hb, hb.static_coefficients(s.rest), cs);
+            const FrequencyResponse frc = trace_frequency_response(hb, start_coefficients(hb, s), cs);
             std::ostringstream      csv;
             csv << "omega,amplitude_A,half_range,fold\n";
             for (const auto &p : frc.points)
@@ -231,9 +235,10 @@ namespace nlmech
             context.pcout << "initial design: " << frc.points.size() << " points on the frequency response"
                           << (frc.completed ? "" : " (stopped: " + frc.stop_reason + ")") << std::endl;
           }
+        };
         TimerOutput::Scope t(context.timer, "design");
         return run_design_study(context, s, settings.harmonic_balance, settings.continuation, design,
-                                prm_text, source_directory);
+                                prm_text, source_directory, initial_curve);
       }
 
       /// The static state under constant loads (gravity) with the drives at their centres: the

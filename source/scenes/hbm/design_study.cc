@@ -476,7 +476,8 @@ namespace nlmech
                                  const HarmonicBalanceSettings &hb_settings,
                                  const ContinuationSettings    &continuation,
                                  const DesignStudySettings &settings, const std::string &prm_text,
-                                 const std::string &source_directory)
+                                 const std::string                                    &source_directory,
+                                 const std::function<void(const PeriodicStructure &)> &initial_design)
   {
     DesignOutcome              outcome;
     std::vector<ParameterSpec> specs;
@@ -494,6 +495,8 @@ namespace nlmech
         const NewtonResult r = minimize_with_newton(held, s.rest);
         context.summary.add_number("design_initial_static_newton_iterations", r.iterations);
       }
+    if (initial_design)
+      initial_design(s);
     // The coordinates of the objective: per point (the scene's tracked one, or those listed) its
     // Amplitude axes, free ones only.
     std::vector<std::vector<std::size_t>> point_coordinates;
@@ -550,7 +553,7 @@ namespace nlmech
     for (const double w : settings.frequencies)
       {
         const auto      hb = rebuild();
-        Eigen::VectorXd z  = hb->static_coefficients(s.rest);
+        Eigen::VectorXd z  = start_coefficients(*hb, s);
         const auto      r  = solve_with_excitation_ramp(*hb, z, w);
         if (!r.converged)
           {
@@ -559,7 +562,7 @@ namespace nlmech
             ContinuationSettings cs = continuation;
             cs.omega_end = w, cs.tracked_dofs = s.tracked_dofs, cs.stability = StabilityMethod::none;
             cs.progress                 = {};
-            const FrequencyResponse frc = trace_frequency_response(*hb, hb->static_coefficients(s.rest), cs);
+            const FrequencyResponse frc = trace_frequency_response(*hb, start_coefficients(*hb, s), cs);
             AssertThrow(
                 frc.completed && !frc.points.empty(),
                 ExcMessage("Design: no periodic state of the initial design at w = " + std::to_string(w) +

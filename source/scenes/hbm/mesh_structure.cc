@@ -153,6 +153,20 @@ namespace nlmech
         s.drives =
             rotation_drives(points, dofs, {{axis[0], axis[1], axis[2]}}, {{center[0], center[1], center[2]}},
                             settings.rotation_amplitude, hb_settings.n_harmonics, penalty);
+        // Start from the whole structure turning with the drive: the quasi-static limit.
+        std::vector<std::array<double, 3>>      all_points;
+        std::vector<std::array<std::size_t, 3>> all_dofs;
+        for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+          if (!driven.count(unsigned(v)) && !s.model.is_fixed(d * v))
+            {
+              all_points.push_back({{mesh.vertices[v][0], mesh.vertices[v][1], mesh.vertices[v][2]}});
+              all_dofs.push_back({{d * v, d * v + 1, d * v + 2}});
+            }
+        s.start_motion = rotation_drives(all_points, all_dofs, {{axis[0], axis[1], axis[2]}},
+                                         {{center[0], center[1], center[2]}}, settings.rotation_amplitude,
+                                         hb_settings.n_harmonics);
+        for (HarmonicDrive &m : s.start_motion)
+          m.center -= mesh.vertices[m.dof / d][m.dof % d];
       }
     else
       for (const unsigned int v : driven)

@@ -76,8 +76,9 @@ namespace nlmech
     unsigned int failed = 0;
     for (const double w : settings.evaluation_frequencies)
       {
-        Eigen::VectorXd z     = hb.static_coefficients(s.rest);
-        std::string     start = "rest, excitation ramped";
+        Eigen::VectorXd z = start_coefficients(hb, s);
+        std::string     start =
+            s.start_motion.empty() ? "rest, excitation ramped" : "rigid drive motion, excitation ramped";
         if (!frc.points.empty())
           {
             const auto nearest = std::min_element(frc.points.begin(), frc.points.end(),
@@ -93,7 +94,9 @@ namespace nlmech
                                                    : solve_periodic_state(hb, z, w, ps);
         if (!r.converged && !frc.points.empty())
           {
-            z = hb.static_coefficients(s.rest), start = "rest, excitation ramped";
+            z = start_coefficients(hb, s), start = s.start_motion.empty()
+                                                       ? "rest, excitation ramped"
+                                                       : "rigid drive motion, excitation ramped";
             r = solve_with_excitation_ramp(hb, z, w, ps);
           }
         failed += !r.converged;

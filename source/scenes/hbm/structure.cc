@@ -35,6 +35,30 @@ namespace nlmech
     prm.leave_subsection();
   }
 
+  Eigen::VectorXd start_coefficients(const HarmonicBalance &hb, const PeriodicStructure &structure)
+  {
+    Eigen::VectorXd   z = hb.static_coefficients(structure.rest);
+    const std::size_t n = hb.n_free();
+    for (const HarmonicDrive &d : structure.start_motion)
+      {
+        const long i = d.dof < std::size_t(structure.rest.size()) ? hb.free_position(d.dof) : -1;
+        if (i < 0)
+          continue;
+        z[i] += d.center;
+        for (unsigned int k = 1; k <= hb.n_harmonics(); ++k)
+          {
+            if (k <= d.sine.size())
+              z[(2 * k - 1) * n + std::size_t(i)] = d.sine[k - 1];
+            if (k <= d.cosine.size())
+              z[2 * k * n + std::size_t(i)] = d.cosine[k - 1];
+          }
+        if (d.amplitude != 0)
+          z[n + std::size_t(i)] -= d.amplitude * std::sin(d.phase),
+              z[2 * n + std::size_t(i)] += d.amplitude * std::cos(d.phase);
+      }
+    return z;
+  }
+
   void StructurePlugin::write_period(RunContext &, const PeriodicStructure &, const std::vector<double> &,
                                      const Eigen::MatrixXd &) const
   {

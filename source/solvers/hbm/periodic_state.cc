@@ -9,6 +9,7 @@
 #include <nlmech/solvers/linear/sparse_factorization.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -70,77 +71,114 @@ namespace nlmech
     return 100 * std::numeric_limits<double>::epsilon() * k * std::max(x.lpNorm<Eigen::Infinity>(), 1e-300);
   }
 
+  namespace
+  {
+    /// KINSOL with the given strategy and iteration cap.
+    PeriodicSolveResult kinsol_solve(const HarmonicBalance &hb, Eigen::VectorXd &z, const double omega,
+                                     const PeriodicSolveSettings &settings, const bool line_search,
+                                     const unsigned int max_iterations)
+    {
+      PeriodicSolveResult result;
+      const double        scale = force_scale(hb, z, omega);
+      const double        floor = residual_floor(hb, z);
+      using KINSOL              = dealii::SUNDIALS::KINSOL<dealii::Vector<double>>;
+      KINSOL::AdditionalData data(line_search ? KINSOL::AdditionalData::linesearch
+                                              : KINSOL::AdditionalData::newton,
+                                  max_iterations, std::max(settings.relative_tolerance * scale, floor),
+                                  1e-14 * std::max(1.0, z.lpNorm<Eigen::Infinity>()), false, 1);
+      KINSOL              solver(data);
+      SparseFactorization factorization;
+      const bool          debug = std::getenv("NLMECH_HBM_DEBUG") != nullptr;
+      solver.reinit_vector      = [&](dealii::Vector<double> &v) { v.reinit(hb.n_unknowns()); };
+      solver.residual           = [&](const dealii::Vector<double> &u, dealii::Vector<double> &F) {
+        try
+          {
+            const Eigen::VectorXd h = hb.residual(to_eigen(u), omega);
+            if (debug)
+              std::cout << "hbm residual " << h.lpNorm<Eigen::Infinity>() / scale << std::endl;
+            if (!h.allFinite())
+              return 1; // recoverable: KINSOL shortens the step
+            to_dealii(h, F);
+            return 0;
+          }
+        catch (...)
+          {
+            return 1;
+          }
+      };
+      solver.setup_jacobian = [&](const dealii::Vector<double> &u, const dealii::Vector<double> &) {
+        try
+          {
+            const auto                        t0 = std::chrono::steady_clock::now();
+            const Eigen::SparseMatrix<double> J  = hb.jacobian(to_eigen(u), omega);
+            const auto                        t1 = std::chrono::steady_clock::now();
+            factorization.factorize(J, false);
+            if (debug)
+              std::cout << "hbm jacobian " << std::chrono::duration<double>(t1 - t0).count() << " s, nnz "
+                        << J.nonZeros() << ", factorisation "
+                        << std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()
+                        << " s" << std::endl;
+            return 0;
+          }
+        catch (...)
+          {
+            return -1;
+          }
+      };
+      solver.solve_with_jacobian = [&](const dealii::Vector<double> &rhs, dealii::Vector<double> &dst,
+                                       double) {
+        try
+          {
+            to_dealii(factorization.solve(to_eigen(rhs)), dst);
+            return 0;
+          }
+        catch (...)
+          {
+            return -1;
+          }
+      };
+      dealii::Vector<double> u(hb.n_unknowns());
+      to_dealii(z, u);
+      try
+        {
+          const QuietStderr quiet; // KINSOL prints every failed solve; the result says why instead
+          result.iterations = solver.solve(u);
+        }
+      catch (const std::exception &e)
+        {
+          result.message = e.what();
+        }
+      const Eigen::VectorXd candidate = to_eigen(u);
+      const Eigen::VectorXd h         = hb.residual(candidate, omega);
+      result.residual                 = h.lpNorm<Eigen::Infinity>() / scale;
+      result.converged =
+          h.allFinite() && h.lpNorm<Eigen::Infinity>() <=
+                               10 * std::max(std::max(settings.relative_tolerance, 1e-13) * scale, floor);
+      if (result.converged)
+        z = candidate;
+      else if (result.message.empty())
+        result.message = "relative residual " + std::to_string(result.residual);
+      return result;
+    }
+  } // namespace
+
   PeriodicSolveResult solve_periodic_state(const HarmonicBalance &hb, Eigen::VectorXd &z, const double omega,
                                            const PeriodicSolveSettings &settings)
   {
-    PeriodicSolveResult result;
-    const double        scale = force_scale(hb, z, omega);
-    const double        floor = residual_floor(hb, z);
-    using KINSOL              = dealii::SUNDIALS::KINSOL<dealii::Vector<double>>;
-    KINSOL::AdditionalData data(KINSOL::AdditionalData::linesearch, settings.max_iterations,
-                                std::max(settings.relative_tolerance * scale, floor),
-                                1e-14 * std::max(1.0, z.lpNorm<Eigen::Infinity>()), false, 1);
-    KINSOL                 solver(data);
-    SparseFactorization    factorization;
-    solver.reinit_vector = [&](dealii::Vector<double> &v) { v.reinit(hb.n_unknowns()); };
-    solver.residual      = [&](const dealii::Vector<double> &u, dealii::Vector<double> &F) {
-      try
-        {
-          const Eigen::VectorXd h = hb.residual(to_eigen(u), omega);
-          if (!h.allFinite())
-            return 1; // recoverable: KINSOL shortens the step
-          to_dealii(h, F);
-          return 0;
-        }
-      catch (...)
-        {
-          return 1;
-        }
-    };
-    solver.setup_jacobian = [&](const dealii::Vector<double> &u, const dealii::Vector<double> &) {
-      try
-        {
-          factorization.factorize(hb.jacobian(to_eigen(u), omega), false);
-          return 0;
-        }
-      catch (...)
-        {
-          return -1;
-        }
-    };
-    solver.solve_with_jacobian = [&](const dealii::Vector<double> &rhs, dealii::Vector<double> &dst, double) {
-      try
-        {
-          to_dealii(factorization.solve(to_eigen(rhs)), dst);
-          return 0;
-        }
-      catch (...)
-        {
-          return -1;
-        }
-    };
-    dealii::Vector<double> u(hb.n_unknowns());
-    to_dealii(z, u);
-    try
+    // Full Newton steps first: thin shells' membranes make the residual of a good step grow before
+    // the next step removes it (the quadratic membrane strain of a bending deflection), which a line
+    // search on |h| refuses, crawling instead. Where they fail, the line search from the same start.
+    const unsigned int  plain_iterations = std::min(settings.max_iterations, 12u);
+    Eigen::VectorXd     trial            = z;
+    PeriodicSolveResult plain            = kinsol_solve(hb, trial, omega, settings, false, plain_iterations);
+    if (plain.converged)
       {
-        const QuietStderr quiet; // KINSOL prints every failed solve; the result says why instead
-        result.iterations = solver.solve(u);
+        z = trial;
+        return plain;
       }
-    catch (const std::exception &e)
-      {
-        result.message = e.what();
-      }
-    const Eigen::VectorXd candidate = to_eigen(u);
-    const Eigen::VectorXd h         = hb.residual(candidate, omega);
-    result.residual                 = h.lpNorm<Eigen::Infinity>() / scale;
-    result.converged =
-        h.allFinite() && h.lpNorm<Eigen::Infinity>() <=
-                             10 * std::max(std::max(settings.relative_tolerance, 1e-13) * scale, floor);
-    if (result.converged)
-      z = candidate;
-    else if (result.message.empty())
-      result.message = "relative residual " + std::to_string(result.residual);
-    return result;
+    PeriodicSolveResult searched = kinsol_solve(hb, z, omega, settings, true, settings.max_iterations);
+    searched.iterations += plain.iterations;
+    return searched;
   }
 
   PeriodicSolveResult solve_with_excitation_ramp(const HarmonicBalance &hb, Eigen::VectorXd &z,

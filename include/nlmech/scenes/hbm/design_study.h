@@ -21,6 +21,7 @@
 #include <nlmech/scenes/hbm/structure.h>
 #include <nlmech/solvers/hbm/periodic_solvers.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -70,10 +71,12 @@ namespace nlmech
   /// inverted bounds, a point far from the model and malformed targets; an optimiser stopped by a
   /// limit marks the run partial with the best design kept.
   /// Initial states at the driving frequencies: from rest, or along the curve from `continuation`'s
-  /// start frequency where that fails.
+  /// start frequency where that fails. `initial_design` (if set) is called once the parameters'
+  /// initial values are on `s`: the initial design's own output (its frequency-response curve).
   DesignOutcome run_design_study(RunContext &context, PeriodicStructure &s,
                                  const HarmonicBalanceSettings &hb_settings,
                                  const ContinuationSettings    &continuation,
                                  const DesignStudySettings &settings, const std::string &prm_text,
-                                 const std::string &source_directory);
+                                 const std::string                                    &source_directory,
+                                 const std::function<void(const PeriodicStructure &)> &initial_design = {});
 } // namespace nlmech

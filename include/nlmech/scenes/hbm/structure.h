@@ -36,6 +36,11 @@ namespace nlmech
     /// state) instead of from the HBM state (structures where a start from rest is a hard Newton
     /// problem).
     bool newmark_from_rest = false;
+    /// The motion the first periodic state starts from, per free unknown, about the static state
+    /// (`center`: the mean offset from it): a rotation drive's rigid motion of the whole structure,
+    /// which a thin shell reaches from rest only by a long excitation ramp (a linearised rotation
+    /// stretches the membrane). Empty: the static state.
+    std::vector<HarmonicDrive> start_motion;
 
     // What design parameters (scenes/hbm/design_study.h) select on; set by the plugins that offer it.
     /// The unknowns of the vertex, joint or mass nearest to a point (point masses); empty: none.
@@ -77,6 +82,10 @@ namespace nlmech
     virtual void write_period(RunContext &context, const PeriodicStructure &structure,
                               const std::vector<double> &times, const Eigen::MatrixXd &x) const;
   };
+
+  /// The harmonic balance unknowns the first periodic state starts from: the static state with the
+  /// structure's `start_motion` on it.
+  Eigen::VectorXd start_coefficients(const HarmonicBalance &hb, const PeriodicStructure &structure);
 
   using StructureRegistry     = PluginRegistry<StructurePlugin>;
   using StructureInfo         = PluginInfo<StructurePlugin>;
