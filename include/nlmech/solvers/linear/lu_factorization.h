@@ -7,6 +7,8 @@
 
 #include <Eigen/Sparse>
 
+#include <vector>
+
 namespace nlmech
 {
   class LuFactorization
@@ -30,6 +32,7 @@ namespace nlmech
 
     Eigen::SparseMatrix<double> matrix, shifted;
     void                       *symbolic = nullptr, *numeric = nullptr;
+    std::vector<int>            pattern_outer, pattern_inner; // the pattern `symbolic` was made for
     double                      epsilon = 0, diagonal_scale = 1;
   };
 } // namespace nlmech
