@@ -652,6 +652,8 @@ namespace nlmech
                                    design.gradients > 0 ? design.gradient_seconds / design.gradients : 0.0,
                                    "s");
         context.summary.add_number("design_newton_iterations", design.newton_iterations);
+        context.summary.add_number("design_predicted_starts", design.predicted_starts);
+        context.summary.add_number("design_failed_predictions", design.failed_predictions);
         // One gradient against one Newton iteration of the periodic solve (residual, Jacobian,
         // factorisation and solve): the adjoint's cost does not grow with the parameters.
         const double newton =

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace nlmech
@@ -292,7 +293,30 @@ namespace nlmech
     return p;
   }
 
-  bool HarmonicDesign::solve_all(std::string *why)
+  std::vector<Eigen::VectorXd> HarmonicDesign::predicted_states(const Eigen::VectorXd &p)
+  {
+    std::vector<Eigen::VectorXd> out(cases.size());
+    const long                   c = factorized_case;
+    if (c < 0 || std::size_t(c) >= cases.size() || states[std::size_t(c)].size() != factorized_state.size() ||
+        states[std::size_t(c)] != factorized_state || values() != factorized_parameters)
+      return out;
+    try
+      {
+        const Eigen::VectorXd &z = states[std::size_t(c)];
+        const Eigen::VectorXd  dh =
+            directional_parameter_derivative(*hb, parameters, p - values(), z, cases[std::size_t(c)].omega);
+        Eigen::VectorXd y = z - lu.solve(dh);
+        if (y.allFinite())
+          out[std::size_t(c)] = std::move(y);
+      }
+    catch (const std::exception &)
+      {
+        // No prediction: the re-solve starts from the last state.
+      }
+    return out;
+  }
+
+  bool HarmonicDesign::solve_all(std::string *why, const std::vector<Eigen::VectorXd> &predicted)
   {
     try
       {
@@ -306,9 +330,17 @@ namespace nlmech
       }
     for (std::size_t c = 0; c < cases.size(); ++c)
       {
-        Eigen::VectorXd           z  = states[c];
-        const auto                t0 = std::chrono::steady_clock::now();
-        const PeriodicSolveResult r  = solve_periodic_state(*hb, z, cases[c].omega, settings.solve);
+        const bool          predict = c < predicted.size() && predicted[c].size() == states[c].size();
+        Eigen::VectorXd     z       = predict ? predicted[c] : states[c];
+        const auto          t0      = std::chrono::steady_clock::now();
+        PeriodicSolveResult r       = solve_periodic_state(*hb, z, cases[c].omega, settings.solve);
+        predicted_starts += predict;
+        if (predict && !r.converged)
+          {
+            // The prediction left the basin of the state (a long step near a fold): the last state.
+            ++failed_predictions, newton_iterations += r.iterations;
+            z = states[c], r = solve_periodic_state(*hb, z, cases[c].omega, settings.solve);
+          }
         solve_seconds += seconds_since(t0), newton_iterations += r.iterations;
         if (!r.converged || !z.allFinite())
           {
@@ -337,8 +369,9 @@ namespace nlmech
     const Eigen::VectorXd              last        = values();
     const std::vector<Eigen::VectorXd> last_states = states;
     const std::vector<DesignCase>      last_cases  = cases; // peaks move
+    const std::vector<Eigen::VectorXd> predicted   = predicted_states(p);
     apply(p);
-    if (solve_all(why))
+    if (solve_all(why, predicted))
       return true;
     // A fold of some state over the parameters lies between: follow each case's solution curve
     // from the last solved design (states, parameters) to p.
@@ -406,6 +439,7 @@ namespace nlmech
           {
             // (2.4.5): df/dp = -lambda^T dh/dp with (dh/dz)^T lambda = df/dz.
             lu.factorize(hb->jacobian(states[c], cases[c].omega));
+            factorized_case = long(c), factorized_state = states[c], factorized_parameters = p;
             if (cases[c].peak)
               g += peak_gradient(c, df_dz, df_dw);
             else
@@ -433,6 +467,7 @@ namespace nlmech
   Eigen::MatrixXd HarmonicDesign::sensitivity(const std::size_t c)
   {
     lu.factorize(hb->jacobian(states[c], cases[c].omega));
+    factorized_case = long(c), factorized_state = states[c], factorized_parameters = values();
     Eigen::MatrixXd S(states[c].size(), Eigen::Index(parameters.size()));
     for (std::size_t k = 0; k < parameters.size(); ++k)
       S.col(Eigen::Index(k)) =

@@ -50,6 +50,7 @@ namespace nlmech
     Eigen::VectorXd gA;
     const double    A = hb->amplitude(z, w, dc.peak_dofs, &gA);
     lu.factorize(hb->jacobian(z, w));
+    factorized_case             = -1; // at the state before the peak moved
     const Eigen::VectorXd phi   = -lu.solve(hb->d_residual_d_omega(z, w));
     const double          slope = gA.dot(phi);
     if (!std::isfinite(slope))

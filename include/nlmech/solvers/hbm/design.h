@@ -217,11 +217,19 @@ namespace nlmech
     unsigned int newton_iterations = 0, gradients = 0, failed_updates = 0;
     unsigned int continued_updates = 0, continuation_steps = 0, continuation_folds = 0;
     unsigned int peak_searches = 0, peak_search_points = 0;
+    /// Re-solves started from the first-order prediction z + S dp (the gradient's factorisation
+    /// at hand), and those of them that fell back to the last state.
+    unsigned int predicted_starts = 0, failed_predictions = 0;
     std::string  last_failure; // why the last failed update failed
     double       gradient_seconds = 0, solve_seconds = 0;
 
   private:
-    bool solve_all(std::string *why);
+    /// Re-solves every case for the current parameters, case c from predicted[c] when given
+    /// (non-empty), else (or where that fails) from its last state.
+    bool solve_all(std::string *why, const std::vector<Eigen::VectorXd> &predicted = {});
+    /// z + S (p - current) for the case `lu` holds the factorisation of, at its state and the
+    /// current parameters (empty where it does not: the factorisation is of another state).
+    std::vector<Eigen::VectorXd> predicted_states(const Eigen::VectorXd &p);
     /// Sets the parameters to p (no solve).
     void apply(const Eigen::VectorXd &p);
     /// Case c from its state at parameters `from` (solved) to `to` by pseudo-arclength continuation
@@ -244,6 +252,9 @@ namespace nlmech
     std::unique_ptr<HarmonicBalance>              hb;
     Eigen::VectorXd                               start;
     LuFactorization                               lu;
+    /// What `lu` was factorised at: case, its state and the parameters (case -1: nothing).
+    long            factorized_case = -1;
+    Eigen::VectorXd factorized_state, factorized_parameters;
   };
 
   /// The optimiser's record of one accepted iterate.
