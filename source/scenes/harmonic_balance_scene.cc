@@ -230,8 +230,18 @@ namespace nlmech
             for (const auto &p : frc.points)
               csv << json_number(p.omega) << "," << json_number(p.amplitude) << ","
                   << json_number(hb.half_range(p.z, p.omega, s.tracked)) << "," << p.fold << "\n";
+            std::ostringstream peaks;
+            peaks << "omega,amplitude_A,half_range\n";
+            for (const auto &p : frc.peaks)
+              peaks << json_number(p.omega) << "," << json_number(p.amplitude) << ","
+                    << json_number(hb.half_range(p.z, p.omega, s.tracked)) << "\n";
+            if (!frc.peaks.empty())
+              context.summary.add_figure("initial_first_peak_frequency", frc.peaks.front().omega, "rad/s");
             if (context.is_root())
-              write_file_atomically(context.output.file("frequency_response_initial.csv"), csv.str());
+              {
+                write_file_atomically(context.output.file("frequency_response_initial.csv"), csv.str());
+                write_file_atomically(context.output.file("resonance_peaks_initial.csv"), peaks.str());
+              }
             context.pcout << "initial design: " << frc.points.size() << " points on the frequency response"
                           << (frc.completed ? "" : " (stopped: " + frc.stop_reason + ")") << std::endl;
           }

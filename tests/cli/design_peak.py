@@ -4,7 +4,8 @@
 Runs tests/prm/design-duffing-peak.prm (the peak frequency objective). Checks: the optimiser's
 peak lies at the target (1e-6 rad/s); the designed structure's frequency-response curve, traced
 afterwards by the scene from the low end of its range (a second method), has its first refined
-resonance peak at the same frequency (1e-6 rad/s); the run exits 0, nothing NaN.
+resonance peak at the same frequency (1e-6 rad/s), and so has the initial design's curve (with the
+initial added mass on it) at the optimiser's initial peak; the run exits 0, nothing NaN.
 """
 import argparse
 import csv
@@ -41,6 +42,15 @@ def main():
               f"{s['design_evaluations']} evaluations, {s['design_peak_searches']} peak searches")
         if not abs(w1 - a.target) < 1e-6:
             failures.append(f"the design's peak lies at {w1}, not {a.target}")
+        # The initial design's curve is traced with the parameters' initial values applied (an
+        # added mass of 0.1, not none): its first peak is the optimiser's initial peak.
+        if "initial_first_peak_frequency" not in s:
+            failures.append("the initial design's curve found no resonance peak")
+        else:
+            w_initial_curve = value(s, "initial_first_peak_frequency")
+            print(f"the initial design's curve: first peak at {w_initial_curve:.10f} rad/s")
+            if not abs(w_initial_curve - w0) < 1e-6:
+                failures.append(f"the initial curve's peak {w_initial_curve} differs from the design's initial {w0}")
         rows = list(csv.DictReader(open(os.path.join(out, "resonance_peaks.csv"))))
         if not rows:
             failures.append("the designed structure's curve found no resonance peak")
