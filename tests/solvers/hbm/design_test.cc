@@ -246,6 +246,54 @@ TEST(HarmonicDesign, SensitivityMatchesResolvedStatesAndPredictionErrorIsQuadrat
   EXPECT_LT(errors.back(), 1e-2);
 }
 
+TEST(HarmonicDesign, RepeatedSolvesStartFromTheFirstOrderPrediction)
+{
+  // After a gradient, the factorisation at the state predicts the next design's state as
+  // z - (dh/dz)^-1 dh/dp dp, i.e. z + S dp with S from sensitivity() (a second route: one solve per
+  // parameter column); the update then starts there, lands on the state a re-solve from the last
+  // state finds, and the prediction is off by O(|dp|^2) only. A prediction needs the
+  // factorisation at the current state: after the update (new state) there is none.
+  auto                                          shaken = nlmech::testing::shaken_strip(0.01, 0.0);
+  auto                                          s      = strip(shaken);
+  std::vector<std::shared_ptr<DesignParameter>> p;
+  const std::size_t top = nearest_point(shaken.m.vertices, dealii::Point<3>(0.5, 1.0, 0.0));
+  p.push_back(make_point_mass_parameter("mass", s->model, {2 * top, 2 * top + 1}, 2e-3, 0.0, 0.1));
+  p.push_back(make_drive_amplitude_parameter("drive", s->drives, 0.1, 3.0));
+  const double omega = 2.5;
+  DesignCase   c;
+  c.omega = omega;
+  c.objectives.push_back(std::make_shared<AmplitudeObjective>(std::vector<std::size_t>{2 * top}, 1.0));
+  DesignSettings ds;
+  ds.solve.relative_tolerance = 1e-13;
+  HarmonicDesign        design(s->rebuild(), p, {c}, {s->solved(omega)}, ds);
+  const Eigen::VectorXd p0 = design.values(), z0 = design.state(0);
+  const Eigen::MatrixXd S = design.sensitivity(0);
+  Eigen::VectorXd       g;
+  design.objective(&g);
+  const Eigen::VectorXd dp        = Eigen::Vector2d(1e-3, 0.05);
+  const auto            predicted = design.predicted_states(p0 + dp);
+  ASSERT_EQ(predicted.size(), 1u);
+  ASSERT_EQ(predicted[0].size(), z0.size());
+  const double size  = (S * dp).norm();
+  const double route = (predicted[0] - z0 - S * dp).norm() / size;
+  std::printf("prediction against z + S dp: relative difference %.2e\n", route);
+  EXPECT_LT(route, 1e-9);
+  ASSERT_TRUE(design.update(p0 + dp));
+  EXPECT_EQ(design.predicted_starts, 1u);
+  EXPECT_EQ(design.failed_predictions, 0u);
+  const Eigen::VectorXd from_prediction = design.state(0);
+  const double          off             = (from_prediction - predicted[0]).norm() / size;
+  std::printf("prediction against the re-solved state: %.2e of the change\n", off);
+  EXPECT_LT(off, 0.05);
+  EXPECT_EQ(design.predicted_states(p0)[0].size(), 0);
+  // The same design solved from the last state (no factorisation at hand: the update starts there).
+  ASSERT_TRUE(design.update(p0));
+  ASSERT_TRUE(design.update(p0 + dp));
+  const double same = (design.state(0) - from_prediction).norm() / from_prediction.norm();
+  std::printf("state from the prediction against the state from the last one: %.2e\n", same);
+  EXPECT_LT(same, 1e-10);
+}
+
 TEST(HarmonicDesign, MassTunedToResonanceHasTheClosedFormOptimum)
 {
   // m x'' + a m x' + k x = F cos(w t): the amplitude F / sqrt((k - m w^2)^2 + (a m w)^2) is largest

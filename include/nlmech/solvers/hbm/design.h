@@ -212,6 +212,11 @@ namespace nlmech
     /// S = dz/dp of case c (n_z x n_p), one solve per parameter with one factorisation.
     Eigen::MatrixXd sensitivity(std::size_t c);
 
+    /// The first-order prediction z + S (p - current) (2.4.4) of the state for the case whose
+    /// factorisation is at hand (that of the last objective gradient or sensitivity, at its state
+    /// and the current parameters); empty entries for the others and where there is none.
+    std::vector<Eigen::VectorXd> predicted_states(const Eigen::VectorXd &p);
+
     /// Counters for the benchmark: HBM residual solves (Newton iterations) and gradients;
     /// updates that needed the parameter continuation, its steps, and updates that failed.
     unsigned int newton_iterations = 0, gradients = 0, failed_updates = 0;
@@ -227,9 +232,6 @@ namespace nlmech
     /// Re-solves every case for the current parameters, case c from predicted[c] when given
     /// (non-empty), else (or where that fails) from its last state.
     bool solve_all(std::string *why, const std::vector<Eigen::VectorXd> &predicted = {});
-    /// z + S (p - current) for the case `lu` holds the factorisation of, at its state and the
-    /// current parameters (empty where it does not: the factorisation is of another state).
-    std::vector<Eigen::VectorXd> predicted_states(const Eigen::VectorXd &p);
     /// Sets the parameters to p (no solve).
     void apply(const Eigen::VectorXd &p);
     /// Case c from its state at parameters `from` (solved) to `to` by pseudo-arclength continuation
