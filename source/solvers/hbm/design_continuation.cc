@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <iostream>
 
 namespace nlmech
 {
@@ -72,8 +74,10 @@ namespace nlmech
       const Eigen::VectorXd zp = from_point.z + ds * from_point.tz;
       const double          tp = from_point.t + ds * from_point.tt;
       next.z = zp, next.t = tp;
+      // Convergence is judged by the corrections (affine invariant), not by |h|: on a thin shell
+      // a right Newton step can raise |h| a thousandfold (the membrane strain of a bending change).
       double last = std::numeric_limits<double>::infinity();
-      for (iterations = 0; iterations < 8; ++iterations)
+      for (iterations = 0; iterations < 12; ++iterations)
         {
           if (next.t > 1 + 1e-3)
             return false;
@@ -91,9 +95,6 @@ namespace nlmech
           const double size = h.lpNorm<Eigen::Infinity>();
           if (size <= tolerance(next.z))
             return true;
-          if (iterations > 2 && size > 0.5 * last)
-            return false; // not converging quadratically: a shorter step
-          last                     = size;
           const Eigen::VectorXd ht = directional_parameter_derivative(*hb, parameters, d, next.z, w);
           Eigen::VectorXd       r(h.size() + 1);
           r.head(h.size()) = -h;
@@ -105,6 +106,11 @@ namespace nlmech
               const Eigen::VectorXd dy = factorization.solve(r);
               if (!dy.allFinite())
                 return false;
+              const double step =
+                  std::sqrt(wz * dy.head(h.size()).squaredNorm() + dy[h.size()] * dy[h.size()]);
+              if (iterations > 2 && step > 0.5 * last)
+                return false; // not converging quadratically: a shorter step
+              last = step;
               next.z += dy.head(h.size()), next.t += dy[h.size()];
             }
           catch (...)
@@ -139,9 +145,17 @@ namespace nlmech
           const double          dt = next.t - (current.t + length * current.tt);
           return std::sqrt(wz * dz.squaredNorm() + dt * dt) <= 0.5 * length;
         };
-        const auto smooth = [&]() { return wz * next.tz.dot(current.tz) + next.tt * current.tt >= 0.85; };
-        if (!correct(current, length, next, iterations) || !near() ||
-            !tangent(next, wz * current.tz, current.tt) || !smooth())
+        const auto smooth    = [&]() { return wz * next.tz.dot(current.tz) + next.tt * current.tt >= 0.85; };
+        const bool corrected = correct(current, length, next, iterations);
+        const bool accepted  = corrected && near() && tangent(next, wz * current.tz, current.tt) && smooth();
+        if (std::getenv("NLMECH_HBM_DEBUG"))
+          std::cout << "parameter continuation step " << step << " t " << current.t << " -> " << next.t
+                    << " length " << length << " iterations " << iterations
+                    << (accepted    ? " accepted"
+                        : corrected ? " corrected, rejected"
+                                    : " not corrected")
+                    << std::endl;
+        if (!accepted)
           {
             ds *= 0.5;
             if (ds < 1e-3) // no progress: a fold the parameters cannot pass, or no state at all
