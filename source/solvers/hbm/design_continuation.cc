@@ -192,7 +192,7 @@ namespace nlmech
         const double size = std::sqrt(wz * next.tz.squaredNorm() + next.tt * next.tt);
         next.tz /= size, next.tt /= size;
         current = next;
-        ds      = iterations <= 3 ? std::min(2 * ds, 1.0) : iterations > 6 ? 0.5 * ds : ds;
+        ds      = iterations <= 4 ? std::min(2 * ds, 1.0) : iterations > 7 ? 0.5 * ds : ds;
       }
     if (why)
       *why = "the parameter continuation could not follow the periodic state at w = " + std::to_string(w) +
