@@ -76,7 +76,7 @@ namespace nlmech
       next.z = zp, next.t = tp;
       // Convergence is judged by the corrections (affine invariant), not by |h|: on a thin shell
       // a right Newton step can raise |h| a thousandfold (the membrane strain of a bending change).
-      double last = std::numeric_limits<double>::infinity();
+      double last = std::numeric_limits<double>::infinity(), before_last = last;
       for (iterations = 0; iterations < 12; ++iterations)
         {
           if (next.t > 1 + 1e-3)
@@ -108,9 +108,10 @@ namespace nlmech
                 return false;
               const double step =
                   std::sqrt(wz * dy.head(h.size()).squaredNorm() + dy[h.size()] * dy[h.size()]);
-              if (iterations > 2 && step > 0.5 * last)
+              // Over two iterations: a shell's corrections may alternate in size as they shrink.
+              if (iterations > 3 && step > 0.5 * before_last)
                 return false; // not converging quadratically: a shorter step
-              last = step;
+              before_last = last, last = step;
               next.z += dy.head(h.size()), next.t += dy[h.size()];
             }
           catch (...)
