@@ -69,6 +69,31 @@ namespace
     return s;
   }
 
+  /// The shaken strip with a point mass at its top and the drive amplitude as parameters, the top's
+  /// amplitude as objective at 2.5 rad/s, states solved tightly.
+  struct TopMassAndDrive
+  {
+    nlmech::testing::ShakenStrip                  shaken = nlmech::testing::shaken_strip(0.01, 0.0);
+    std::unique_ptr<Setup>                        s      = strip(shaken);
+    std::vector<std::shared_ptr<DesignParameter>> parameters;
+    std::unique_ptr<HarmonicDesign>               design;
+
+    TopMassAndDrive()
+    {
+      const std::size_t top = nearest_point(shaken.m.vertices, dealii::Point<3>(0.5, 1.0, 0.0));
+      parameters.push_back(
+          make_point_mass_parameter("mass", s->model, {2 * top, 2 * top + 1}, 2e-3, 0.0, 0.1));
+      parameters.push_back(make_drive_amplitude_parameter("drive", s->drives, 0.1, 3.0));
+      DesignCase c;
+      c.omega = 2.5;
+      c.objectives.push_back(std::make_shared<AmplitudeObjective>(std::vector<std::size_t>{2 * top}, 1.0));
+      DesignSettings ds;
+      ds.solve.relative_tolerance = 1e-13;
+      design = std::make_unique<HarmonicDesign>(s->rebuild(), parameters, std::vector<DesignCase>{c},
+                                                std::vector<Eigen::VectorXd>{s->solved(c.omega)}, ds);
+    }
+  };
+
   /// Largest difference between the adjoint gradient and central differences of the objective
   /// (states re-solved at p +- h e_k, h relative to the bounds), relative to the largest gradient entry.
   double gradient_error(HarmonicDesign &design, double relative_step = 1e-5)
@@ -199,19 +224,9 @@ TEST(HarmonicDesign, StripAdjointGradientsMatchCentralDifferences)
 
 TEST(HarmonicDesign, SensitivityMatchesResolvedStatesAndPredictionErrorIsQuadratic)
 {
-  auto                                          shaken = nlmech::testing::shaken_strip(0.01, 0.0);
-  auto                                          s      = strip(shaken);
-  std::vector<std::shared_ptr<DesignParameter>> p;
-  const std::size_t top = nearest_point(shaken.m.vertices, dealii::Point<3>(0.5, 1.0, 0.0));
-  p.push_back(make_point_mass_parameter("mass", s->model, {2 * top, 2 * top + 1}, 2e-3, 0.0, 0.1));
-  p.push_back(make_drive_amplitude_parameter("drive", s->drives, 0.1, 3.0));
-  const double omega = 2.5;
-  DesignCase   c;
-  c.omega = omega;
-  c.objectives.push_back(std::make_shared<AmplitudeObjective>(std::vector<std::size_t>{2 * top}, 1.0));
-  DesignSettings ds;
-  ds.solve.relative_tolerance = 1e-13;
-  HarmonicDesign        design(s->rebuild(), p, {c}, {s->solved(omega)}, ds);
+  TopMassAndDrive       strip_design;
+  HarmonicDesign       &design = *strip_design.design;
+  const auto           &p      = strip_design.parameters;
   const Eigen::VectorXd p0 = design.values(), z0 = design.state(0);
   const Eigen::MatrixXd S = design.sensitivity(0);
   // Columns against central differences of re-solved states.
@@ -253,19 +268,8 @@ TEST(HarmonicDesign, RepeatedSolvesStartFromTheFirstOrderPrediction)
   // parameter column); the update then starts there, lands on the state a re-solve from the last
   // state finds, and the prediction is off by O(|dp|^2) only. A prediction needs the
   // factorisation at the current state: after the update (new state) there is none.
-  auto                                          shaken = nlmech::testing::shaken_strip(0.01, 0.0);
-  auto                                          s      = strip(shaken);
-  std::vector<std::shared_ptr<DesignParameter>> p;
-  const std::size_t top = nearest_point(shaken.m.vertices, dealii::Point<3>(0.5, 1.0, 0.0));
-  p.push_back(make_point_mass_parameter("mass", s->model, {2 * top, 2 * top + 1}, 2e-3, 0.0, 0.1));
-  p.push_back(make_drive_amplitude_parameter("drive", s->drives, 0.1, 3.0));
-  const double omega = 2.5;
-  DesignCase   c;
-  c.omega = omega;
-  c.objectives.push_back(std::make_shared<AmplitudeObjective>(std::vector<std::size_t>{2 * top}, 1.0));
-  DesignSettings ds;
-  ds.solve.relative_tolerance = 1e-13;
-  HarmonicDesign        design(s->rebuild(), p, {c}, {s->solved(omega)}, ds);
+  TopMassAndDrive       strip_design;
+  HarmonicDesign       &design = *strip_design.design;
   const Eigen::VectorXd p0 = design.values(), z0 = design.state(0);
   const Eigen::MatrixXd S = design.sensitivity(0);
   Eigen::VectorXd       g;
